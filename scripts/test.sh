@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Set-up plus the whole test suite: a Release build with warnings as errors, then the
+# same tests under AddressSanitizer + UndefinedBehaviorSanitizer.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/setup.sh
+bash scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DSTIPPLOT_WERROR=ON
+(cd build && ctest --output-on-failure -j "$(nproc)")
+bash scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTIPPLOT_WERROR=ON -DSTIPPLOT_SANITIZE=ON -DSTIPPLOT_BENCH=OFF
+(cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j "$(nproc)")

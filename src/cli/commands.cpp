@@ -1,0 +1,10 @@
+#include "cli/commands.hpp"
+
+namespace stipplot::cli {
+
+void register_all(CLI::App& app) {
+  register_stipple(app);
+  register_eval(app);
+}
+
+}  // namespace stipplot::cli

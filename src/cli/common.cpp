@@ -1,0 +1,110 @@
+#include "cli/common.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+#include "preview/preview.hpp"
+#include "svg_writer.hpp"
+#include "util/atomic_file.hpp"
+#include "util/error.hpp"
+
+namespace stipplot::cli {
+
+namespace fs = std::filesystem;
+
+Placement PlacementArgs::resolve() const {
+  Placement p;
+  p.page = parse_page(page);
+  p.margin_mm = margin;
+  p.landscape = landscape;
+  p.pen_width_mm = pen_width;
+  p.dot_size = Length::parse(dot_size, "--dot-size");
+  p.validate();
+  return p;
+}
+
+void add_placement_options(CLI::App* cmd, PlacementArgs& a) {
+  cmd->add_option("--page", a.page, "Paper: A5, A4, A3, A2, letter, legal, tabloid or WxHmm")
+      ->capture_default_str()->group("Page");
+  cmd->add_option("--margin", a.margin, "Margin in mm on every side")->capture_default_str()->group("Page");
+  cmd->add_flag("--landscape", a.landscape, "Long side of the page horizontal")->group("Page");
+  cmd->add_option("--pen-width", a.pen_width, "Pen width in mm")->capture_default_str()->group("Page");
+  cmd->add_option("--dot-size", a.dot_size,
+                  "Drawn dot diameter: mm (0.4, 0.4mm) or input pixels (1.5px); 0 = one pen touch")
+      ->capture_default_str()->group("Page");
+}
+
+void add_output_options(CLI::App* cmd, OutputArgs& a) {
+  cmd->add_option("input", a.input, "Input image (PNG, JPEG, BMP, TGA)")->required();
+  cmd->add_option("-o,--output", a.output, "Output file: .svg")->required()->group("Output");
+  cmd->add_option("--preview", a.preview, "Also write a preview PNG of what the pens will draw")->group("Output");
+  cmd->add_option("--preview-dpi", a.preview_dpi, "Preview resolution")->capture_default_str()->group("Output");
+  cmd->add_flag("--json", a.json, "Print a one-line JSON summary instead of prose")->group("Output");
+  cmd->add_flag("-q,--quiet", a.quiet, "Print nothing on success")->group("Output");
+  cmd->add_option("--max-pixels", a.max_pixels, "Refuse images with more pixels than this")
+      ->capture_default_str()->group("Input");
+}
+
+namespace {
+std::string lower_ext(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  for (auto& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return e;
+}
+}  // namespace
+
+void OutputArgs::validate() const {
+  std::string e = lower_ext(output);
+  if (e != ".svg") throw UserError("-o " + output + ": unknown output type '" + e + "' (use .svg)");
+  require_writable_dir(output);
+  if (!preview.empty()) {
+    if (lower_ext(preview) != ".png") throw UserError("--preview " + preview + ": the preview is a PNG file");
+    require_writable_dir(preview);
+  }
+  require_range("--preview-dpi", preview_dpi, 10, 2400);
+  if (max_pixels == 0) throw UserError("--max-pixels must be at least 1");
+}
+
+Image load_input(const OutputArgs& a) {
+  LoadOptions lo;
+  lo.max_pixels = a.max_pixels;
+  return load_image(a.input, lo);
+}
+
+void write_outputs(const Drawing& d, const OutputArgs& a, nlohmann::json& summary) {
+  write_svg(d, a.output);
+  summary["output"] = a.output;
+  if (!a.preview.empty()) {
+    PreviewOptions po;
+    po.dpi = a.preview_dpi;
+    write_preview_png(d, a.preview, po);
+    summary["preview"] = a.preview;
+  }
+  nlohmann::json layers = nlohmann::json::array();
+  size_t total = 0;
+  for (const auto& l : d.layers) {
+    layers.push_back({{"pen", l.pen.name},
+                      {"color", l.pen.color.hex()},
+                      {"dots", l.dots.size()},
+                      {"lines", l.lines.size()},
+                      {"circles", l.circles.size()}});
+    total += l.primitive_count();
+  }
+  summary["layers"] = layers;
+  summary["primitives"] = total;
+  summary["page_mm"] = {d.page.width_mm, d.page.height_mm};
+}
+
+void report(const OutputArgs& a, const nlohmann::json& summary, const std::string& human) {
+  if (a.json) {
+    std::printf("%s\n", summary.dump().c_str());
+  } else if (!a.quiet) {
+    std::printf("%s\n", human.c_str());
+  }
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace stipplot::cli

@@ -1,0 +1,36 @@
+#pragma once
+// Images as the methods see them: 8-bit RGB, alpha already composited on white.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace stipplot {
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;  // row-major, 3 bytes a pixel
+
+  size_t pixels() const { return static_cast<size_t>(width) * static_cast<size_t>(height); }
+  uint8_t channel(int x, int y, int c) const { return rgb[(static_cast<size_t>(y) * width + x) * 3 + c]; }
+  // One channel as a grey plane (0 = R, 1 = G, 2 = B).
+  std::vector<uint8_t> plane(int c) const;
+  // Rec. 601 luma, the papers' d in 0..255.
+  std::vector<uint8_t> luma() const;
+  static Image from_grey(int w, int h, const std::vector<uint8_t>& grey);
+};
+
+struct LoadOptions {
+  uint64_t max_pixels = 100'000'000;  // --max-pixels
+};
+
+// PNG, JPEG, BMP, TGA (and what else stb_image reads). Throws UserError with one line
+// naming the file and the problem: missing, empty, not an image, truncated, zero size,
+// or more pixels than allowed (checked from the header, before decoding).
+Image load_image(const std::string& path, const LoadOptions& opt = {});
+
+// Rec. 601 luma of one RGB triple, rounded.
+inline uint8_t luma601(uint8_t r, uint8_t g, uint8_t b) {
+  return static_cast<uint8_t>((299u * r + 587u * g + 114u * b + 500u) / 1000u);
+}
+
+}  // namespace stipplot

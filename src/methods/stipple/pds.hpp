@@ -1,0 +1,61 @@
+#pragma once
+// Poisson disk sampling over a per-pixel radius field (seed 000, SPEC.md §1).
+// The building block of every stippling variant and of the tree method's points.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "util/rng.hpp"
+
+namespace stipplot::pds {
+
+// Visiting orders. Both return pixel indices (y * width + x).
+// Random order: a uniform permutation. O(n).
+std::vector<uint32_t> random_order(size_t n, Rng& rng);
+// Grayscale order: increasing f = d + u, u ~ U[0,1): darkest first, ties at random.
+// Counting sort on d with a random shuffle inside each level is exactly this
+// ordering, in O(n) instead of a comparison sort's O(n log n).
+std::vector<uint32_t> grayscale_order(const std::vector<uint8_t>& d, Rng& rng);
+
+// Uniform grid of dots answering "is there a dot within r of (x, y)?" by looking only
+// at the cells the disc's bounding box overlaps. Cell size g is chosen from the
+// minimum dot spacing so a cell holds a small fixed number of dots (a packing bound).
+class DotGrid {
+ public:
+  // min_spacing: every two dots are more than this apart (the smallest radius).
+  DotGrid(int width, int height, double min_spacing);
+  // True if some dot p has |p - (x,y)|^2 <= r2. O((r/g + 2)^2 * capacity).
+  bool any_within(int x, int y, double r, double r2) const;
+  void insert(int x, int y);
+  int cell_size() const { return g_; }
+  int capacity() const { return cap_; }
+
+ private:
+  int w_, h_, g_, gw_, gh_, cap_;
+  std::vector<uint8_t> count_;
+  std::vector<uint8_t> slots_;  // per cell, cap_ (dx, dy) pairs local to the cell
+};
+
+// Radius lookup by grey level: r(d) for d = 0..255.
+struct RadiusTable {
+  double r[256];
+  double r2[256];
+  static RadiusTable linear(double a, double b, bool inverted);  // a + b*d/255 or a + b*(255-d)/255
+  double min() const;
+};
+
+// Poisson disk sampling: visit pixels in `order`; a pixel gets a dot unless a dot
+// already placed lies within its radius (closed disc). Returns dot pixel indices in
+// placement order. O(n * (r_max/g + 2)^2 * capacity) time, O(n) memory.
+std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& d, const RadiusTable& radius,
+                             const std::vector<uint32_t>& order);
+
+// Binary stippling: black dots visited dark first with radius s, white dots bright
+// first with radius t, interleaved step by step; a pixel never holds both colours.
+struct BinaryResult {
+  std::vector<uint32_t> black, white;
+};
+BinaryResult sample_binary(int width, int height, const std::vector<uint8_t>& d, const RadiusTable& s,
+                           const RadiusTable& t, const std::vector<uint32_t>& dark_first);
+
+}  // namespace stipplot::pds
