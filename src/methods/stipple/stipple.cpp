@@ -48,10 +48,17 @@ namespace {
 
 constexpr Color kGreyPaper{128, 128, 128};
 
+// blank_from: grey levels at or above this get no dot at all (256 = the paper: every
+// level gets dots, white ones sparsest).
 std::vector<uint32_t> one_colour(int w, int h, const std::vector<uint8_t>& d, double a, double b, bool random,
-                                 Rng& rng) {
+                                 Rng& rng, int blank_from = 256) {
   auto radius = pds::RadiusTable::linear(a, b, false);
   auto order = random ? pds::random_order(d.size(), rng) : pds::grayscale_order(d, rng);
+  if (blank_from < 256) {
+    // grayscale order is sorted by level, so the blank pixels are a suffix
+    auto cut = std::find_if(order.begin(), order.end(), [&](uint32_t i) { return d[i] >= blank_from; });
+    order.erase(cut, order.end());
+  }
   return pds::sample(w, h, d, radius, order);
 }
 
@@ -127,7 +134,9 @@ StippleResult stipple_pixels(const Image& image, const StippleParams& p) {
     case StippleMethod::Cmyk: {
       // Ink subtracts light, so plot a separation: K = 1 - max(R,G,B) with grey
       // component replacement, C = (1 - R - K)/(1 - K) etc. Each ink's coverage is
-      // stippled as a dark-is-dense grey image 255*(1 - coverage).
+      // stippled as a dark-is-dense grey image 255*(1 - coverage). Unlike the paper's
+      // one-ink methods, paper that needs none of an ink gets none of its dots (below
+      // 2% coverage), or every light area would be speckled with all four inks.
       const size_t n = image.pixels();
       std::array<std::vector<uint8_t>, 4> cov;
       for (auto& v : cov) v.resize(n);
@@ -144,7 +153,7 @@ StippleResult stipple_pixels(const Image& image, const StippleParams& p) {
                                   {"yellow", {255, 221, 0}, 0.3},
                                   {"black", colors::black, 0.3}};
       for (int c = 0; c < 4; ++c)
-        out.layers.push_back({pens[c], one_colour(w, h, cov[static_cast<size_t>(c)], p.a, p.b, false, rng)});
+        out.layers.push_back({pens[c], one_colour(w, h, cov[static_cast<size_t>(c)], p.a, p.b, false, rng, 250)});
       break;
     }
   }
