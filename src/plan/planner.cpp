@@ -1,6 +1,7 @@
 #include "plan/planner.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "plan/tour.hpp"
 #include "util/error.hpp"
@@ -38,6 +39,22 @@ std::vector<Stroke> layer_strokes(const Layer& layer, const PlanOptions& opt) {
   return out;
 }
 
+// Non-finite coordinates would break the kd-trees' ordering and the fills' loops.
+void validate_layer(const Layer& l) {
+  auto finite = [](Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); };
+  if (!(std::isfinite(l.pen.width_mm) && l.pen.width_mm >= 0.01 && l.pen.width_mm <= 100))
+    throw UserError("pen '" + l.pen.name + "': width must be between 0.01 and 100 mm");
+  for (const Dot& d : l.dots)
+    if (!finite(d.c) || !(d.diameter >= 0 && d.diameter <= 1000))
+      throw UserError("pen '" + l.pen.name + "': a dot has a non-finite position or a diameter outside 0..1000 mm");
+  for (const Polyline& pl : l.lines)
+    for (const Vec2& p : pl.pts)
+      if (!finite(p)) throw UserError("pen '" + l.pen.name + "': a polyline has a non-finite point");
+  for (const Circle& c : l.circles)
+    if (!finite(c.c) || !(c.r >= 0 && c.r <= 1000))
+      throw UserError("pen '" + l.pen.name + "': a circle has a non-finite centre or a radius outside 0..1000 mm");
+}
+
 size_t node_count(const Layer& l) { return l.dots.size() + l.circles.size() + 2 * l.lines.size(); }
 
 }  // namespace
@@ -48,7 +65,10 @@ Plan plan_drawing(const Drawing& d, const PlanOptions& opt) {
   Plan plan;
   plan.page = d.page;
   size_t total_nodes = 0;
-  for (const Layer& l : d.layers) total_nodes += node_count(l);
+  for (const Layer& l : d.layers) {
+    validate_layer(l);
+    total_nodes += node_count(l);
+  }
   Vec2 pos = opt.origin;
   for (const Layer& layer : d.layers) {
     PlannedLayer out;

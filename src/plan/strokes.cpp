@@ -232,6 +232,11 @@ Stroke circle_stroke(const Circle& circle, const FillOptions& opt) {
   const double R = circle.r - w / 2;  // centre line of the outermost pass
   if (opt.mode == FillMode::None) return circle_outline(circle.c, R, opt.chord_tolerance);
   const double max_pitch = opt.pitch_fraction * w;
+  const double passes = std::ceil(R / max_pitch) * (opt.mode == FillMode::Hatch ? 2 : 1);
+  const double per_pass = opt.mode == FillMode::Hatch ? 2 : 2 * std::numbers::pi / angle_step(R, opt.chord_tolerance);
+  if (passes * per_pass > 2e7)
+    throw UserError("a filled circle of radius " + std::to_string(circle.r) + " mm needs too many fill passes at pen width " +
+                    std::to_string(w) + " mm");
   const Vec2 c = circle.c;
   Stroke s;
   if (opt.mode == FillMode::Spiral) {

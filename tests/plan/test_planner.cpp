@@ -331,3 +331,20 @@ TEST_CASE("bad planner options are user errors", "[plan]") {
   CHECK_THROWS_AS(plan::parse_fill_mode("crosshatch"), UserError);
   CHECK(plan::parse_fill_mode("hatch") == plan::FillMode::Hatch);
 }
+
+TEST_CASE("non-finite drawings are user errors, not crashes", "[plan]") {
+  Drawing d;
+  d.layers.resize(1);
+  d.layers[0].dots.push_back({{std::nan(""), 1}, 0.3});
+  CHECK_THROWS_AS(plan_drawing(d, PlanOptions{}), UserError);
+  d.layers[0].dots.clear();
+  d.layers[0].circles.push_back({{1, 1}, std::numeric_limits<double>::infinity(), true});
+  CHECK_THROWS_AS(plan_drawing(d, PlanOptions{}), UserError);
+  d.layers[0].circles.clear();
+  d.layers[0].lines.push_back({{{0, 0}, {1, std::nan("")}}});
+  CHECK_THROWS_AS(plan_drawing(d, PlanOptions{}), UserError);
+  d.layers[0].lines.clear();
+  d.layers[0].pen.width_mm = 0.01;
+  d.layers[0].circles.push_back({{500, 500}, 1000, true});  // millions of passes
+  CHECK_THROWS_AS(plan_drawing(d, PlanOptions{}), UserError);
+}
