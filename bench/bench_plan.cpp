@@ -89,9 +89,10 @@ static void BM_PlanUniformDots(benchmark::State& state) {
   const double greedy_s = tn.wall_s();
   PlanOptions opt;  // defaults: 2 s improvement budget
   double planned = 0, wall = 0, cpu = 0;
+  PlanInfo info;
   for (auto _ : state) {
     Timer t;
-    const Plan p = plan_drawing(d, opt);
+    const Plan p = plan_drawing(d, opt, &info);
     wall = t.wall_s();
     cpu = t.cpu_s();
     planned = travel(p);
@@ -101,6 +102,7 @@ static void BM_PlanUniformDots(benchmark::State& state) {
   state.counters["ratio_generation_order_to_emst"] = generation / mst;
   state.counters["plan_wall_s"] = wall;
   state.counters["plan_cpu_s"] = cpu;
+  state.counters["budget_hit"] = info.budget_hit;
   state.counters["greedy_wall_s"] = greedy_s;
   state.counters["emst_wall_s"] = mst_s;
 }
@@ -141,13 +143,14 @@ static void BM_PlanStipple(benchmark::State& state) {
   place.page = {420, 420};
   double stipple_s = 0, plan_s = 0, plan_cpu = 0, est_s = 0, estimate = 0;
   size_t dots = 0;
+  PlanInfo info;
   for (auto _ : state) {
     Timer t0;
     const Drawing d = stipple(img, sp, place);
     stipple_s = t0.wall_s();
     dots = d.primitive_count();
     Timer t1;
-    const Plan p = plan_drawing(d, PlanOptions{});
+    const Plan p = plan_drawing(d, PlanOptions{}, &info);
     plan_s = t1.wall_s();
     plan_cpu = t1.cpu_s();
     Timer t2;
@@ -159,6 +162,7 @@ static void BM_PlanStipple(benchmark::State& state) {
   state.counters["plan_wall_s"] = plan_s;
   state.counters["plan_cpu_s"] = plan_cpu;
   state.counters["estimate_wall_s"] = est_s;
+  state.counters["budget_hit"] = info.budget_hit;
   state.counters["plot_estimate_h"] = estimate / 3600;
   state.counters["plan_to_stipple_time"] = plan_s / stipple_s;
 }

@@ -1,7 +1,9 @@
 #include "plan/planner.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 #include "plan/tour.hpp"
 #include "util/error.hpp"
@@ -59,7 +61,11 @@ size_t node_count(const Layer& l) { return l.dots.size() + l.circles.size() + 2 
 
 }  // namespace
 
-Plan plan_drawing(const Drawing& d, const PlanOptions& opt) {
+Plan plan_drawing(const Drawing& d, const PlanOptions& opt) { return plan_drawing(d, opt, nullptr); }
+
+Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info) {
+  const auto t0 = std::chrono::steady_clock::now();
+  PlanInfo local;
   opt.validate();
   if (!(d.layers.size() < 100000)) throw UserError("drawing has too many layers");
   Plan plan;
@@ -99,7 +105,10 @@ Plan plan_drawing(const Drawing& d, const PlanOptions& opt) {
     plan::TourOptions topt;
     topt.neighbors = opt.neighbors;
     topt.seconds = total_nodes == 0 ? 0 : opt.optimize_seconds * static_cast<double>(node_count(layer)) / total_nodes;
-    const std::vector<uint32_t> order = plan::plan_tour(pts, partner, pos, topt);
+    plan::TourStats ts;
+    const std::vector<uint32_t> order = plan::plan_tour(pts, partner, pos, topt, &ts);
+    local.budget_hit = local.budget_hit || ts.budget_hit;
+    local.improving_moves += ts.moves_2opt + ts.moves_oropt;
     out.strokes.reserve(strokes.size());
     for (size_t k = 0; k < order.size(); ++k) {
       const uint32_t v = order[k];
@@ -108,6 +117,8 @@ Plan plan_drawing(const Drawing& d, const PlanOptions& opt) {
         // Entered at node v: v is the stroke's start if it is the first of the pair.
         const bool reversed = static_cast<uint32_t>(partner[v]) < v;
         if (reversed) std::reverse(s.pts.begin(), s.pts.end());
+        if (k + 1 >= order.size() || order[k + 1] != static_cast<uint32_t>(partner[v]))
+          throw std::logic_error("plan_tour separated a stroke's ends");
         ++k;  // the partner follows
       }
       out.strokes.push_back(std::move(s));
@@ -115,6 +126,8 @@ Plan plan_drawing(const Drawing& d, const PlanOptions& opt) {
     if (!out.strokes.empty()) pos = out.strokes.back().pts.back();
     plan.layers.push_back(std::move(out));
   }
+  local.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (info) *info = local;
   return plan;
 }
 

@@ -34,4 +34,12 @@ struct PlanOptions {
 // then the improvement under the time budget (see plan/tour.hpp).
 Plan plan_drawing(const Drawing& d, const PlanOptions& opt);
 
+// How planning went, for --json reports and benchmarks.
+struct PlanInfo {
+  double seconds = 0;        // wall time of plan_drawing
+  bool budget_hit = false;   // some layer stopped improving at its time budget
+  long improving_moves = 0;  // 2-opt + Or-opt moves applied
+};
+Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info);
+
 }  // namespace stipplot
