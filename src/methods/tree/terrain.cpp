@@ -38,7 +38,9 @@ Image terrain(const TreeResult& r, const TerrainParams& p) {
     ground[i] = r.cross ? r.field[i] : float(r.grey[i]);
     gmax = std::max(gmax, ground[i]);
   }
-  const double to_unit = gmax > 0 ? 1.0 / gmax : 0;
+  // Colour by absolute grey (the paper: white = red, dark = green); the edge distance
+  // has no absolute scale, so it is taken relative to its maximum.
+  const double to_unit = r.cross ? (gmax > 0 ? 1.0 / gmax : 0) : 1.0 / 255;
   cv::Mat height(h, w, CV_32F);
   for (int y = 0; y < h; ++y) {
     float* row = height.ptr<float>(y);
