@@ -51,6 +51,7 @@ void register_tree(CLI::App& app) {
   const char* e = "Major edges (cross variants)";
   cmd->add_option("--ms-spatial", args->p.edges.spatial_radius, "Mean-shift spatial radius (px)")->capture_default_str()->group(e);
   cmd->add_option("--ms-color", args->p.edges.color_radius, "Mean-shift colour radius")->capture_default_str()->group(e);
+  cmd->add_option("--ms-scale", args->p.edges.scale, "Run the mean shift on the image scaled by this (speed)")->capture_default_str()->group(e);
   cmd->add_option("--canny-low", args->p.edges.canny_low, "Canny low threshold")->capture_default_str()->group(e);
   cmd->add_option("--canny-high", args->p.edges.canny_high, "Canny high threshold")->capture_default_str()->group(e);
   cmd->add_option("--min-edge-length", args->p.edges.min_length, "Drop edge chains with fewer pixels")->capture_default_str()->group(e);

@@ -10,10 +10,11 @@
 namespace stipplot::tree {
 
 struct EdgeParams {
-  double spatial_radius = 8;  // mean-shift spatial window (px)
-  double color_radius = 20;   // mean-shift colour window (RGB units)
-  double canny_low = 30, canny_high = 90;
-  int min_length = 40;        // px; edge chains (8-connected) with fewer pixels are dropped
+  double spatial_radius = 10;  // mean-shift spatial window (px of the input)
+  double color_radius = 30;    // mean-shift colour window (RGB units)
+  double scale = 0.5;          // mean shift runs on the image scaled by this (its cost grows as r²·n)
+  double canny_low = 50, canny_high = 150;
+  int min_length = 60;         // px; edge chains (8-connected) with fewer pixels are dropped
   void validate() const;      // UserError naming the option
 };
 
