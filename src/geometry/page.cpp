@@ -4,6 +4,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <regex>
 
 #include "util/error.hpp"
 
@@ -21,21 +22,18 @@ PageSpec parse_page(const std::string& text) {
                                 {"tabloid", 279.4, 431.8}};
   for (const auto& n : named)
     if (t == n.name) return {n.w, n.h};
-  double w = 0, h = 0;
-  int used = 0;
-  if (std::sscanf(t.c_str(), "%lfx%lf%n", &w, &h, &used) == 2) {
-    std::string rest = t.substr(static_cast<size_t>(used));
-    double f = 1;
-    if (rest == "in")
-      f = 25.4;
-    else if (rest == "cm")
-      f = 10;
-    else if (!(rest.empty() || rest == "mm"))
-      throw UserError("--page: unknown unit '" + rest + "' in '" + text + "' (use mm, cm or in)");
-    if (!std::isfinite(w) || !std::isfinite(h) || w <= 0 || h <= 0 || w * f > 100000 || h * f > 100000)
+  // WxH with an optional unit; parsed by hand so "0x100" is not read as hex.
+  static const std::regex custom(R"(^\s*([0-9]*\.?[0-9]+)\s*x\s*([0-9]*\.?[0-9]+)\s*(mm|cm|in)?\s*$)");
+  std::smatch m;
+  if (std::regex_match(t, m, custom)) {
+    double f = m[3] == "in" ? 25.4 : m[3] == "cm" ? 10 : 1;
+    double w = std::stod(m[1]) * f, h = std::stod(m[2]) * f;
+    if (!(w > 0) || !(h > 0) || w > 100000 || h > 100000)
       throw UserError("--page: size must be positive and at most 100 m, got '" + text + "'");
-    return {w * f, h * f};
+    return {w, h};
   }
+  if (t.find('x') != std::string::npos)
+    throw UserError("--page: cannot read '" + text + "' as WxH with a unit of mm, cm or in");
   throw UserError("--page: unknown page '" + text + "' (use A5, A4, A3, A2, letter, legal, tabloid or WxHmm)");
 }
 

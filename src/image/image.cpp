@@ -53,7 +53,10 @@ Image load_image(const std::string& path, const LoadOptions& opt) {
 
   std::fseek(f.get(), 0, SEEK_SET);
   unsigned char* data = stbi_load_from_file(f.get(), &w, &h, &comp, 4);
-  if (!data) throw UserError(path + ": cannot decode image (" + stbi_failure_reason() + ")");
+  if (!data) {
+    std::string why = stbi_failure_reason() ? stbi_failure_reason() : "";
+    throw UserError(path + ": truncated or corrupt image" + (why.empty() ? std::string() : " (decoder: " + why + ")"));
+  }
   std::unique_ptr<unsigned char, void (*)(void*)> guard(data, &stbi_image_free);
 
   Image im;

@@ -42,42 +42,78 @@ DotGrid::DotGrid(int width, int height, double min_spacing) : w_(width), h_(heig
   cap_ = static_cast<int>(std::min<double>(g_ * g_, std::floor(bound)));
   gw_ = (w_ + g_ - 1) / g_;
   gh_ = (h_ + g_ - 1) / g_;
-  count_.assign(static_cast<size_t>(gw_) * gh_, 0);
-  slots_.assign(count_.size() * static_cast<size_t>(cap_), 0);
+  stride_ = 1;
+  while (stride_ < cap_ + 1) stride_ *= 2;
+  cells_.assign(static_cast<size_t>(gw_) * gh_ * stride_, 0);
 }
 
 bool DotGrid::any_within(int x, int y, double r, double r2) const {
   const int ri = static_cast<int>(r);
   const int r2i = static_cast<int>(r2);  // integer squared distances: d2 <= r2 iff d2 <= floor(r2)
-  const int x0 = std::max(0, x - ri), x1 = std::min(w_ - 1, x + ri);
-  const int y0 = std::max(0, y - ri), y1 = std::min(h_ - 1, y + ri);
-  const int cx0 = x0 / g_, cx1 = x1 / g_, cy0 = y0 / g_, cy1 = y1 / g_;
+  const int gx = x / g_, gy = y / g_;
+  // The pixel's own cell first: a blocking dot is most often there.
+  auto check = [&](int cx, int cy) {
+    const uint8_t* c = &cells_[(static_cast<size_t>(cy) * gw_ + static_cast<size_t>(cx)) * stride_];
+    const int n = c[0];
+    const int bx = cx * g_ - x, by = cy * g_ - y;
+    for (int k = 1; k <= n; ++k) {
+      const int dx = bx + (c[k] & 15), dy = by + (c[k] >> 4);
+      if (dx * dx + dy * dy <= r2i) return true;
+    }
+    return false;
+  };
+  if (check(gx, gy)) return true;
+  const int cx0 = std::max(0, x - ri) / g_, cx1 = std::min(w_ - 1, x + ri) / g_;
+  const int cy0 = std::max(0, y - ri) / g_, cy1 = std::min(h_ - 1, y + ri) / g_;
   for (int cy = cy0; cy <= cy1; ++cy) {
     const int by = cy * g_;
     const int dyn = y < by ? by - y : (y > by + g_ - 1 ? y - (by + g_ - 1) : 0);
     if (dyn * dyn > r2i) continue;
-    const size_t row = static_cast<size_t>(cy) * gw_;
     for (int cx = cx0; cx <= cx1; ++cx) {
-      const size_t c = row + static_cast<size_t>(cx);
-      const int n = count_[c];
-      if (n == 0) continue;
+      if (cx == gx && cy == gy) continue;
       const int bx = cx * g_;
       const int dxn = x < bx ? bx - x : (x > bx + g_ - 1 ? x - (bx + g_ - 1) : 0);
       if (dxn * dxn + dyn * dyn > r2i) continue;
-      const uint8_t* s = &slots_[c * static_cast<size_t>(cap_)];
-      for (int k = 0; k < n; ++k) {
-        const int dx = bx + (s[k] & 15) - x, dy = by + (s[k] >> 4) - y;
-        if (dx * dx + dy * dy <= r2i) return true;
-      }
+      if (check(cx, cy)) return true;
     }
   }
   return false;
 }
 
 void DotGrid::insert(int x, int y) {
-  const size_t c = static_cast<size_t>(y / g_) * gw_ + static_cast<size_t>(x / g_);
-  if (count_[c] >= cap_) throw std::logic_error("DotGrid: cell over its packing bound (dots closer than the spacing)");
-  slots_[c * static_cast<size_t>(cap_) + count_[c]++] = static_cast<uint8_t>((x % g_) | ((y % g_) << 4));
+  uint8_t* c = &cells_[(static_cast<size_t>(y / g_) * gw_ + static_cast<size_t>(x / g_)) * stride_];
+  if (c[0] >= cap_) throw std::logic_error("DotGrid: cell over its packing bound (dots closer than the spacing)");
+  c[1 + c[0]++] = static_cast<uint8_t>((x % g_) | ((y % g_) << 4));
+}
+
+CoverMask::CoverMask(int width, int height)
+    : w_(width), h_(height), bits_((static_cast<size_t>(width) * height + 63) / 64, 0) {}
+
+void CoverMask::set_span(size_t from, size_t to) {
+  size_t wa = from >> 6, wb = to >> 6;
+  uint64_t ma = ~0ull << (from & 63), mb = ~0ull >> (63 - (to & 63));
+  if (wa == wb) {
+    bits_[wa] |= ma & mb;
+    return;
+  }
+  bits_[wa] |= ma;
+  for (size_t k = wa + 1; k < wb; ++k) bits_[k] = ~0ull;
+  bits_[wb] |= mb;
+}
+
+void CoverMask::paint_disc(int x, int y, double r2) {
+  const int ri = static_cast<int>(std::sqrt(r2));
+  const int r2i = static_cast<int>(r2);
+  for (int dy = -ri; dy <= ri; ++dy) {
+    const int yy = y + dy;
+    if (yy < 0 || yy >= h_) continue;
+    int hw = static_cast<int>(std::sqrt(static_cast<double>(r2i - dy * dy)));
+    while ((hw + 1) * (hw + 1) + dy * dy <= r2i) ++hw;  // exact integer half-width
+    while (hw > 0 && hw * hw + dy * dy > r2i) --hw;
+    const int xa = std::max(0, x - hw), xb = std::min(w_ - 1, x + hw);
+    const size_t row = static_cast<size_t>(yy) * static_cast<size_t>(w_);
+    set_span(row + static_cast<size_t>(xa), row + static_cast<size_t>(xb));
+  }
 }
 
 RadiusTable RadiusTable::linear(double a, double b, bool inverted) {
@@ -92,11 +128,38 @@ RadiusTable RadiusTable::linear(double a, double b, bool inverted) {
 
 double RadiusTable::min() const { return *std::min_element(r, r + 256); }
 
+namespace {
+// True when the radius never decreases along the order, so CoverMask applies.
+bool radii_monotone(const std::vector<uint8_t>& d, const RadiusTable& radius, const std::vector<uint32_t>& order) {
+  double last = -1;
+  for (uint32_t idx : order) {
+    double r = radius.r[d[idx]];
+    if (r < last) return false;
+    last = r;
+  }
+  return true;
+}
+}  // namespace
+
 std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& d, const RadiusTable& radius,
                              const std::vector<uint32_t>& order) {
   DotGrid grid(width, height, radius.min());
   std::vector<uint32_t> dots;
   const uint32_t w = static_cast<uint32_t>(width);
+  if (radii_monotone(d, radius, order)) {
+    CoverMask cover(width, height);
+    for (uint32_t idx : order) {
+      if (cover.covered(idx)) continue;
+      const int x = static_cast<int>(idx % w), y = static_cast<int>(idx / w);
+      const uint8_t v = d[idx];
+      if (!grid.any_within(x, y, radius.r[v], radius.r2[v])) {
+        grid.insert(x, y);
+        cover.paint_disc(x, y, radius.r2[v]);
+        dots.push_back(idx);
+      }
+    }
+    return dots;
+  }
   for (uint32_t idx : order) {
     const int x = static_cast<int>(idx % w), y = static_cast<int>(idx / w);
     const uint8_t v = d[idx];
@@ -111,6 +174,13 @@ std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& 
 BinaryResult sample_binary(int width, int height, const std::vector<uint8_t>& d, const RadiusTable& s,
                            const RadiusTable& t, const std::vector<uint32_t>& dark_first) {
   DotGrid black(width, height, s.min()), white(width, height, t.min());
+  // Black radii grow along the dark-first order and white radii along its reverse
+  // whenever s and t are the paper's linear ramps; otherwise the masks stay unused.
+  const bool black_mono = radii_monotone(d, s, dark_first);
+  const std::vector<uint32_t> bright_first(dark_first.rbegin(), dark_first.rend());
+  const bool white_mono = radii_monotone(d, t, bright_first);
+  CoverMask black_cover(black_mono ? width : 0, black_mono ? height : 0);
+  CoverMask white_cover(white_mono ? width : 0, white_mono ? height : 0);
   enum : uint8_t { kNone = 0, kBlack = 1, kWhite = 2 };
   std::vector<uint8_t> held(d.size(), kNone);
   BinaryResult out;
@@ -119,19 +189,21 @@ BinaryResult sample_binary(int width, int height, const std::vector<uint8_t>& d,
   for (size_t k = 0; k < n; ++k) {
     // Step k: the k-th darkest pixel may take a black dot, then the k-th brightest a white one.
     uint32_t i = dark_first[k];
-    if (held[i] != kWhite) {
+    if (held[i] != kWhite && !(black_mono && black_cover.covered(i))) {
       int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
       if (!black.any_within(x, y, s.r[d[i]], s.r2[d[i]])) {
         black.insert(x, y);
+        if (black_mono) black_cover.paint_disc(x, y, s.r2[d[i]]);
         held[i] = kBlack;
         out.black.push_back(i);
       }
     }
-    uint32_t j = dark_first[n - 1 - k];
-    if (held[j] != kBlack) {
+    uint32_t j = bright_first[k];
+    if (held[j] != kBlack && !(white_mono && white_cover.covered(j))) {
       int x = static_cast<int>(j % w), y = static_cast<int>(j / w);
       if (!white.any_within(x, y, t.r[d[j]], t.r2[d[j]])) {
         white.insert(x, y);
+        if (white_mono) white_cover.paint_disc(x, y, t.r2[d[j]]);
         held[j] = kWhite;
         out.white.push_back(j);
       }

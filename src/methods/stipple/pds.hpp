@@ -32,8 +32,26 @@ class DotGrid {
 
  private:
   int w_, h_, g_, gw_, gh_, cap_;
-  std::vector<uint8_t> count_;
-  std::vector<uint8_t> slots_;  // per cell, cap_ (dx, dy) pairs local to the cell
+  int stride_;  // bytes a cell: a count then cap_ slots, padded to a power of two
+  // Cell c lives at cells_[c * stride_]: [count, slot0, slot1, ...]; a slot packs the
+  // dot's offset inside the cell as dx | dy << 4. One cache line holds several cells.
+  std::vector<uint8_t> cells_;
+};
+
+// Pixels certainly blocked, as a bit per pixel. Valid when radii never decrease along
+// the visiting order (grayscale order: r grows with d): a pixel within r_p of an earlier
+// dot p is within its own r >= r_p of it. Painting each dot's disc once costs
+// O(dots * r^2) = O(n) in all, and spares most pixels the grid query.
+class CoverMask {
+ public:
+  CoverMask(int width, int height);
+  bool covered(size_t idx) const { return (bits_[idx >> 6] >> (idx & 63)) & 1; }
+  void paint_disc(int x, int y, double r2);
+
+ private:
+  void set_span(size_t from, size_t to);  // inclusive pixel indices in one row
+  int w_, h_;
+  std::vector<uint64_t> bits_;
 };
 
 // Radius lookup by grey level: r(d) for d = 0..255.

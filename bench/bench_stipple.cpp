@@ -1,0 +1,116 @@
+// Grayscale-order PDS on a 3840x2160 photo-like image (a=2, b=8) against a literal
+// reference implementation: std::sort of (f, pixel) pairs and a scan of every pixel
+// of the disc in an occupancy bitmap. Run: ./build/bench/bench_stipple
+#include <algorithm>
+#include <cmath>
+
+#include "methods/stipple/pds.hpp"
+#include "methods/stipple/stipple.hpp"
+#include "ratio_reporter.hpp"
+#include "synthetic.hpp"
+
+namespace {
+
+using namespace stipplot;
+
+constexpr int W = 3840, H = 2160;
+constexpr double A = 2, B = 8;
+
+const std::vector<uint8_t>& image() {
+  static const std::vector<uint8_t> img = bench::photo_like_grey(W, H);
+  return img;
+}
+
+// The literal reading of the paper: sort by f = d + u, then for each pixel scan every
+// pixel of its disc for an existing dot. O(n log n + n r^2).
+std::vector<uint32_t> reference_pds(const std::vector<uint8_t>& d, uint64_t seed) {
+  Rng rng(seed);
+  std::vector<std::pair<double, uint32_t>> f(d.size());
+  for (uint32_t i = 0; i < d.size(); ++i) f[i] = {d[i] + rng.uniform(), i};
+  std::sort(f.begin(), f.end());
+  std::vector<uint8_t> occ(d.size(), 0);
+  std::vector<uint32_t> dots;
+  for (const auto& [key, idx] : f) {
+    int x = static_cast<int>(idx % W), y = static_cast<int>(idx / W);
+    double r = A + B * d[idx] / 255.0, r2 = r * r;
+    int ri = static_cast<int>(r);
+    bool blocked = false;
+    for (int dy = -ri; dy <= ri && !blocked; ++dy) {
+      int yy = y + dy;
+      if (yy < 0 || yy >= H) continue;
+      for (int dx = -ri; dx <= ri; ++dx) {
+        int xx = x + dx;
+        if (xx < 0 || xx >= W || dx * dx + dy * dy > r2) continue;
+        if (occ[static_cast<size_t>(yy) * W + xx]) {
+          blocked = true;
+          break;
+        }
+      }
+    }
+    if (!blocked) {
+      occ[idx] = 1;
+      dots.push_back(idx);
+    }
+  }
+  return dots;
+}
+
+void BM_GrayscalePDS(benchmark::State& state) {
+  const auto& d = image();
+  auto radius = pds::RadiusTable::linear(A, B, false);
+  size_t dots = 0;
+  for (auto _ : state) {
+    Rng rng(1);
+    auto order = pds::grayscale_order(d, rng);
+    auto out = pds::sample(W, H, d, radius, order);
+    dots = out.size();
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["dots"] = static_cast<double>(dots);
+  state.counters["Mpixel/s"] = benchmark::Counter(static_cast<double>(d.size()) * state.iterations() / 1e6,
+                                                  benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_GrayscalePDS)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+void BM_ReferencePDS(benchmark::State& state) {
+  const auto& d = image();
+  size_t dots = 0;
+  for (auto _ : state) {
+    auto out = reference_pds(d, 1);
+    dots = out.size();
+    benchmark::DoNotOptimize(out.data());
+  }
+  state.counters["dots"] = static_cast<double>(dots);
+}
+BENCHMARK(BM_ReferencePDS)->Unit(benchmark::kMillisecond)->MinTime(2.0);
+
+// The two halves of the fast method, to see where time goes.
+void BM_GrayscaleOrderOnly(benchmark::State& state) {
+  const auto& d = image();
+  for (auto _ : state) {
+    Rng rng(1);
+    auto order = pds::grayscale_order(d, rng);
+    benchmark::DoNotOptimize(order.data());
+  }
+}
+BENCHMARK(BM_GrayscaleOrderOnly)->Unit(benchmark::kMillisecond);
+
+void BM_StippleVariant(benchmark::State& state) {
+  static const Image img = Image::from_grey(W, H, image());
+  StippleParams p;
+  p.method = static_cast<StippleMethod>(state.range(0));
+  p.a = A;
+  p.b = B;
+  p.a_b = p.a_w = A;
+  p.b_b = p.b_w = B;
+  for (auto _ : state) {
+    auto r = stipple_pixels(img, p);
+    benchmark::DoNotOptimize(r.layers.data());
+  }
+  state.SetLabel(to_string(p.method));
+}
+BENCHMARK(BM_StippleVariant)->DenseRange(0, 5)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+STIPPLOT_BENCH_MAIN({{"BM_GrayscalePDS", "BM_ReferencePDS"}})

@@ -1,0 +1,107 @@
+// The CLI end to end: every variant runs, --json is one line, bad input is one line and
+// a non-zero exit with no output file left behind.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "test_util.hpp"
+
+namespace {
+std::string sample(const char* name) { return std::string(STIPPLOT_SOURCE_DIR) + "/examples/" + name; }
+int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+}  // namespace
+
+TEST_CASE("stipple runs every method and writes SVG + preview", "[cli]") {
+  test::TempDir t;
+  for (const char* m : {"random", "gray", "negative", "binary", "color", "cmyk"}) {
+    auto r = test::run_cli("stipple " + sample("horse.png") + " -o " + t.file("o.svg") + " --preview " +
+                           t.file("p.png") + " --method " + m + " -a 2 -b 8 --json");
+    INFO(m << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    REQUIRE(count_lines(r.out) == 1);
+    auto j = nlohmann::json::parse(r.out);
+    CHECK(j["method"] == (std::string(m) == "grey" ? "gray" : m));
+    CHECK(j["primitives"].get<size_t>() > 100);
+    CHECK(std::filesystem::file_size(t.file("o.svg")) > 1000);
+    CHECK(std::filesystem::file_size(t.file("p.png")) > 1000);
+  }
+}
+
+TEST_CASE("every command has --help", "[cli]") {
+  for (const char* c : {"stipple", "eval"}) {
+    auto r = test::run_cli(std::string(c) + " --help");
+    CHECK(r.exit_code == 0);
+    CHECK(r.out.find("Example") != std::string::npos);
+  }
+  auto r = test::run_cli("--help");
+  CHECK(r.exit_code == 0);
+  CHECK(r.out.find("stipple") != std::string::npos);
+}
+
+TEST_CASE("same seed, same file, bit for bit", "[cli]") {
+  test::TempDir t;
+  std::string base = "stipple " + sample("coffee.png") + " --method binary --seed 9 -q -o ";
+  REQUIRE(test::run_cli(base + t.file("a.svg")).exit_code == 0);
+  REQUIRE(test::run_cli(base + t.file("b.svg")).exit_code == 0);
+  CHECK(test::read_file(t.file("a.svg")) == test::read_file(t.file("b.svg")));
+}
+
+TEST_CASE("bad input: one error line, non-zero exit, no output file", "[cli][bad-input]") {
+  test::TempDir t;
+  { std::ofstream(t.file("empty.png")); }
+  { std::ofstream(t.file("junk.jpg")) << "plain text, not a JPEG"; }
+  std::string png = test::read_file(sample("horse.png"));
+  { std::ofstream(t.file("trunc.png"), std::ios::binary) << png.substr(0, png.size() / 3); }
+  const std::string out = t.file("out.svg"), prev = t.file("out.png");
+  struct Case {
+    std::string args, expect;
+  };
+  std::vector<Case> cases = {
+      {t.file("missing.png"), "no such file"},
+      {t.file("empty.png"), "empty"},
+      {t.file("junk.jpg"), "not a readable image"},
+      {t.file("trunc.png"), "truncated"},
+      {sample("horse.png") + " --max-pixels 100", "--max-pixels"},
+      {sample("horse.png") + " -a nan", "-a"},
+      {sample("horse.png") + " -b -3", "-b"},
+      {sample("horse.png") + " --a-w inf", "--a-w"},
+      {sample("horse.png") + " --method pointy", "pointy"},
+      {sample("horse.png") + " --page B9", "--page"},
+      {sample("horse.png") + " --margin 200", "margin"},
+      {sample("horse.png") + " --pen-width 0", "--pen-width"},
+      {sample("horse.png") + " --dot-size -1px", "--dot-size"},
+  };
+  for (const auto& c : cases) {
+    auto r = test::run_cli("stipple " + c.args + " -o " + out + " --preview " + prev);
+    INFO(c.args << " -> " << r.err);
+    CHECK(r.exit_code != 0);
+    CHECK(r.exit_code < 64);  // a user error, not a crash or internal error
+    CHECK(count_lines(r.err) == 1);
+    CHECK(r.err.find(c.expect) != std::string::npos);
+    CHECK(!std::filesystem::exists(out));
+    CHECK(!std::filesystem::exists(prev));
+  }
+  auto r = test::run_cli("stipple " + sample("horse.png") + " -o /no/such/dir/x.svg");
+  CHECK(r.exit_code != 0);
+  CHECK(r.err.find("does not exist") != std::string::npos);
+  r = test::run_cli("stipple " + sample("horse.png") + " -o " + t.file("x.pdf"));
+  CHECK(r.exit_code != 0);
+  CHECK(r.err.find(".pdf") != std::string::npos);
+}
+
+TEST_CASE("eval prints blurred SSIM and edge spill", "[cli][eval]") {
+  test::TempDir t;
+  REQUIRE(test::run_cli("stipple " + sample("horse.png") + " -q -o " + t.file("h.svg") + " --preview " +
+                        t.file("h.png") + " -a 2 -b 8 --landscape")
+              .exit_code == 0);
+  auto r = test::run_cli("eval " + sample("horse.png") + " " + t.file("h.png") + " --landscape --json");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  auto j = nlohmann::json::parse(r.out);
+  CHECK(j["ssim_blurred"].get<double>() > 0.3);
+  CHECK(j["edge_spill"].get<double>() >= 0);
+  CHECK(j["dots"].get<size_t>() > 100);
+  // without the same page options the shape doesn't match: a clear error
+  r = test::run_cli("eval " + sample("horse.png") + " " + t.file("h.png"));
+  CHECK(r.exit_code != 0);
+  CHECK(r.err.find("--page") != std::string::npos);
+}

@@ -1,0 +1,70 @@
+#include <catch2/catch.hpp>
+#include <tinyxml2.h>
+
+#include "methods/stipple/stipple.hpp"
+#include "svg_writer.hpp"
+#include "test_util.hpp"
+
+using namespace stipplot;
+
+TEST_CASE("SVG output parses back: mm units, viewBox, one Inkscape layer per pen, non-plotting paper",
+          "[svg]") {
+  Image img = test::grey_lines_image(64, 48);
+  StippleParams p;
+  p.method = StippleMethod::Binary;
+  p.a_b = p.a_w = 1;
+  p.b_b = p.b_w = 5;
+  Placement pl;
+  pl.page = parse_page("A5");
+  Drawing d = stipple(img, p, pl);
+  test::TempDir t;
+  write_svg(d, t.file("o.svg"));
+
+  tinyxml2::XMLDocument doc;
+  REQUIRE(doc.LoadFile(t.file("o.svg").c_str()) == tinyxml2::XML_SUCCESS);
+  auto* svg = doc.RootElement();
+  REQUIRE(std::string(svg->Name()) == "svg");
+  CHECK(std::string(svg->Attribute("width")) == "148mm");
+  CHECK(std::string(svg->Attribute("height")) == "210mm");
+  CHECK(std::string(svg->Attribute("viewBox")) == "0 0 148 210");
+
+  int layers = 0, paper = 0;
+  size_t circles = 0;
+  for (auto* g = svg->FirstChildElement("g"); g; g = g->NextSiblingElement("g")) {
+    REQUIRE(g->Attribute("inkscape:groupmode", "layer"));
+    std::string label = g->Attribute("inkscape:label");
+    if (label.rfind('%', 0) == 0) {
+      ++paper;
+      auto* rect = g->FirstChildElement("rect");
+      REQUIRE(rect);
+      CHECK(std::string(rect->Attribute("fill")) == "#808080");  // grey paper for binary
+      CHECK(std::string(g->Attribute("class")) == "non-plotting");
+      continue;
+    }
+    ++layers;
+    for (auto* c = g->FirstChildElement("circle"); c; c = c->NextSiblingElement("circle")) {
+      double cx = c->DoubleAttribute("cx"), cy = c->DoubleAttribute("cy");
+      REQUIRE(cx >= 0);
+      REQUIRE(cx <= 148);
+      REQUIRE(cy >= 0);
+      REQUIRE(cy <= 210);
+      ++circles;
+    }
+  }
+  CHECK(paper == 1);
+  CHECK(layers == 2);
+  CHECK(circles == d.primitive_count());
+}
+
+TEST_CASE("numbers are written compactly and exactly to the micrometre", "[svg]") {
+  CHECK(format_number(1.0, 3) == "1");
+  CHECK(format_number(1.23456, 3) == "1.235");
+  CHECK(format_number(-0.0001, 3) == "0");
+  CHECK(format_number(210, 3) == "210");
+}
+
+TEST_CASE("a failed write leaves no file behind", "[svg]") {
+  Drawing d;
+  CHECK_THROWS(write_svg(d, "/nonexistent-dir/x.svg"));
+  CHECK(!std::filesystem::exists("/nonexistent-dir/x.svg"));
+}
