@@ -19,9 +19,10 @@ struct SketchArgs {
   PlacementArgs place;
   std::string space = "rgb";
   std::string pens_file;
-  std::string cell = "0.8mm";
+  std::string cell = "auto";
   std::string lighten = "auto";
   std::string preview_style = "paper";
+  std::string sampler = "lds";
   bool measure = false;
   double blur_cells = 2;
   sketch::SketchParams p;
@@ -45,7 +46,7 @@ void register_sketch(CLI::App& app) {
   cmd->add_option("--pens", args->pens_file, "TOML palette of your pens (RGB distance model)")->group("Sketch");
   cmd->add_option("--reach", args->p.reach, "--pens: RGB reach d of every pen (0 = distance to the nearest other pen, at most sqrt(3)/2)")
       ->capture_default_str()->group("Sketch");
-  cmd->add_option("--cell", args->cell, "Sampling grid cell: mm on paper (0.8, 0.8mm) or input pixels (3px)")
+  cmd->add_option("--cell", args->cell, "Sampling grid cell: mm on paper (0.6, 0.6mm), input pixels (3px), or auto: sqrt(--mark x pen width), one mark's ink per cell")
       ->capture_default_str()->group("Sketch");
   cmd->add_option("--mark", args->p.mark_mm, "Stroke length in mm where the image is flat")->capture_default_str()->group("Strokes");
   cmd->add_option("--edge-length", args->p.edge_mm, "Stroke length in mm at strong edges")->capture_default_str()->group("Strokes");
@@ -60,6 +61,9 @@ void register_sketch(CLI::App& app) {
                   "auto|on|off: where the pixel is brighter than the pen, lighten its marks in the preview and thin "
                   "them in the plot (auto: on for hsi)")
       ->capture_default_str()->group("Strokes");
+  cmd->add_option("--sampler", args->sampler,
+                  "lds: points at a low-discrepancy sequence (even, as Secord); random: independent draws (clumpy)")
+      ->capture_default_str()->group("Sketch");
   cmd->add_option("--seed", args->p.seed, "Random seed; the same seed gives the same drawing")->capture_default_str()->group("Sketch");
   cmd->add_option("--preview-style", args->preview_style,
                   "paper: every mark, lightened as in the paper; plot: only what the plotter draws")
@@ -80,8 +84,12 @@ void register_sketch(CLI::App& app) {
     } else if (a.p.reach != 0) {
       throw UserError("--reach applies to --pens palettes only (rgb and hsi use the paper's values)");
     }
-    a.p.cell = Length::parse(a.cell, "--cell");
+    a.p.cell = a.cell == "auto" ? Length{0, false} : Length::parse(a.cell, "--cell");
+    if (a.cell != "auto" && a.p.cell.value <= 0) throw UserError("--cell must be > 0 (or auto)");
     a.p.lighten = sketch::parse_lighten(a.lighten);
+    if (a.sampler != "lds" && a.sampler != "random")
+      throw UserError("--sampler: expected lds or random, got '" + a.sampler + "'");
+    a.p.sampler = a.sampler == "lds" ? sketch::SketchParams::Sampler::LowDiscrepancy : sketch::SketchParams::Sampler::Random;
     const sketch::PreviewStyle style = sketch::parse_preview_style(a.preview_style);
     require_range("--blur-cells", a.blur_cells, 0, 100);
     a.p.validate();

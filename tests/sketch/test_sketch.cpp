@@ -286,7 +286,7 @@ TEST_CASE("bad parameters are rejected naming the option", "[sketch]") {
       CHECK(std::string(e.what()).find(name) != std::string::npos);
     }
   };
-  bad([](SketchParams& q) { q.cell.value = 0; }, "--cell");
+  bad([](SketchParams& q) { q.cell.value = -1; }, "--cell");
   bad([](SketchParams& q) { q.mark_mm = std::nan(""); }, "--mark");
   bad([](SketchParams& q) { q.edge_low = 0.5; q.edge_high = 0.2; }, "--edge-high");
   bad([](SketchParams& q) { q.max_passes = 0; }, "--passes");

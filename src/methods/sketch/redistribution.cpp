@@ -101,33 +101,33 @@ std::vector<float> densities(const std::vector<float>& p, const PointCount& pc) 
 
 namespace {
 
-// Inverse CDF through a guide table: guide[k] is the first index whose cumulative
-// value exceeds k/G of the total, so a lookup starts next to its answer.
-struct Inverter {
-  std::vector<uint32_t> guide;
-  void build(const double* cum, size_t n, double total) {
-    const size_t g = n;
-    guide.assign(g, 0);
-    size_t i = 0;
-    for (size_t k = 0; k < g; ++k) {
-      const double target = total * static_cast<double>(k) / static_cast<double>(g);
-      while (i + 1 < n && cum[i] <= target) ++i;
-      guide[k] = static_cast<uint32_t>(i);
-    }
-  }
-  // Index i with cum[i-1] <= u*total < cum[i], and the fraction inside it.
-  template <typename T>
-  static double find(const std::vector<uint32_t>& guide, const T* cum, size_t n, double u, double total) {
-    const double target = u * total;
-    size_t k = std::min(guide.size() - 1, static_cast<size_t>(u * static_cast<double>(guide.size())));
-    size_t i = guide[k];
+// Guide table (Chen 1974) over a cumulative array: guide[k] is the first index whose
+// cumulative value exceeds k/G of the total, so an inversion starts next to its answer
+// and walks O(1) steps on average.
+template <typename T>
+void build_guide(const T* cum, size_t n, double total, std::vector<uint32_t>& guide) {
+  const size_t g = n;
+  guide.resize(g);
+  size_t i = 0;
+  const double step = total / static_cast<double>(g);
+  for (size_t k = 0; k < g; ++k) {
+    const double target = step * static_cast<double>(k);
     while (i + 1 < n && static_cast<double>(cum[i]) <= target) ++i;
-    const double before = i ? static_cast<double>(cum[i - 1]) : 0.0;
-    const double width = static_cast<double>(cum[i]) - before;
-    const double f = width > 0 ? std::clamp((target - before) / width, 0.0, 0.999999) : 0.5;
-    return static_cast<double>(i) + f;
+    guide[k] = static_cast<uint32_t>(i);
   }
-};
+}
+
+// The index i with cum[i-1] <= u*total < cum[i], plus the fraction of the way through it.
+template <typename T>
+double invert(const std::vector<uint32_t>& guide, const T* cum, size_t n, double u, double total) {
+  const double target = u * total;
+  size_t i = guide[std::min(guide.size() - 1, static_cast<size_t>(u * static_cast<double>(guide.size())))];
+  while (i + 1 < n && static_cast<double>(cum[i]) <= target) ++i;
+  const double before = i ? static_cast<double>(cum[i - 1]) : 0.0;
+  const double width = static_cast<double>(cum[i]) - before;
+  const double f = width > 0 ? std::clamp((target - before) / width, 0.0, 0.999999) : 0.5;
+  return static_cast<double>(i) + f;
+}
 
 }  // namespace
 
@@ -135,62 +135,64 @@ std::vector<Point> place_points(const std::vector<float>& q, int w, int h, size_
   if (w <= 0 || h <= 0 || q.size() != static_cast<size_t>(w) * static_cast<size_t>(h))
     throw std::invalid_argument("place_points: q does not match the grid");
   std::vector<Point> out;
-  // Row sums and the marginal CDF; in-row CDFs in float (relative to the row).
+  // The row marginal: one sequential pass over q.
   std::vector<double> row_cum(h);
-  std::vector<float> cum(q.size());
   double total = 0;
   for (int y = 0; y < h; ++y) {
+    const float* row = q.data() + static_cast<size_t>(y) * w;
     double r = 0;
-    const size_t o = static_cast<size_t>(y) * w;
-    for (int x = 0; x < w; ++x) {
-      r += std::max(0.0f, q[o + x]);
-      cum[o + x] = static_cast<float>(r);
-    }
-    total += r;
-    row_cum[y] = total;
+    for (int x = 0; x < w; ++x) r += std::max(0.0f, row[x]);
+    row_cum[y] = (total += r);
   }
   if (!(total > 0) || count == 0) return out;
-  Inverter rows;
-  rows.build(row_cum.data(), h, total);
-  // One guide table per row with points in it, built on first use: O(w) each.
-  std::vector<uint32_t> row_guides(q.size());
-  std::vector<uint8_t> built(h, 0);
+  std::vector<uint32_t> guide;
+  build_guide(row_cum.data(), h, total, guide);
+
+  // R2 sequence: Kronecker steps 1/g, 1/g^2 with g the plastic number, shifted by the
+  // seed (Cranley-Patterson rotation). Two passes over the (cheap) sequence: count the
+  // points of each row, then write each point straight to its row's slot, so that each
+  // row's CDF is built once and the points are read in order (no random reads: the
+  // cost per cell stays nearly flat as the grid grows).
   Rng rng(seed ^ 0x5ce7c4u);
   const double shift1 = rng.uniform(), shift2 = rng.uniform();
-  // R2 sequence: Kronecker steps 1/g, 1/g^2 with g the plastic number.
   constexpr double g = 1.32471795724474602596;
   constexpr double a1 = 1.0 / g, a2 = 1.0 / (g * g);
-  double u1 = shift1, u2 = shift2;
-  out.reserve(count);
-  for (size_t i = 0; i < count; ++i) {
-    u1 += a1;
-    if (u1 >= 1) u1 -= 1;
-    u2 += a2;
-    if (u2 >= 1) u2 -= 1;
-    const double yc = Inverter::find(rows.guide, row_cum.data(), h, u1, total);
-    const int y = std::min(h - 1, static_cast<int>(yc));
-    const size_t o = static_cast<size_t>(y) * w;
-    const float* rc = cum.data() + o;
-    const double rt = rc[w - 1];
-    uint32_t* gd = row_guides.data() + o;
-    if (!built[y]) {
-      size_t j = 0;
-      for (int k = 0; k < w; ++k) {
-        const double target = rt * k / w;
-        while (j + 1 < static_cast<size_t>(w) && rc[j] <= target) ++j;
-        gd[k] = static_cast<uint32_t>(j);
-      }
-      built[y] = 1;
+  std::vector<uint32_t> start(static_cast<size_t>(h) + 1, 0);
+  {
+    double u1 = shift1;
+    for (size_t i = 0; i < count; ++i) {
+      u1 += a1;
+      if (u1 >= 1) u1 -= 1;
+      const int y = std::min(h - 1, static_cast<int>(invert(guide, row_cum.data(), h, u1, total)));
+      ++start[y + 1];
     }
-    // Find with the row's guide (a span of the big table).
-    const double target = u2 * rt;
-    size_t k = std::min<size_t>(w - 1, static_cast<size_t>(u2 * w));
-    size_t j = gd[k];
-    while (j + 1 < static_cast<size_t>(w) && static_cast<double>(rc[j]) <= target) ++j;
-    const double before = j ? static_cast<double>(rc[j - 1]) : 0.0;
-    const double width = static_cast<double>(rc[j]) - before;
-    const double f = width > 0 ? std::clamp((target - before) / width, 0.0, 0.999999) : 0.5;
-    out.push_back({static_cast<float>(j + f), static_cast<float>(yc)});
+  }
+  for (int y = 0; y < h; ++y) start[y + 1] += start[y];
+  std::vector<float> ys(count), us(count);
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    double u1 = shift1, u2 = shift2;
+    for (size_t i = 0; i < count; ++i) {
+      u1 += a1;
+      if (u1 >= 1) u1 -= 1;
+      u2 += a2;
+      if (u2 >= 1) u2 -= 1;
+      const double yc = invert(guide, row_cum.data(), h, u1, total);
+      const uint32_t k = fill[std::min(h - 1, static_cast<int>(yc))]++;
+      ys[k] = static_cast<float>(yc);
+      us[k] = static_cast<float>(u2);
+    }
+  }
+  out.resize(count);
+  std::vector<float> cum(w);
+  for (int y = 0; y < h; ++y) {
+    if (start[y] == start[y + 1]) continue;
+    const float* row = q.data() + static_cast<size_t>(y) * w;
+    double r = 0;
+    for (int x = 0; x < w; ++x) cum[x] = static_cast<float>(r += std::max(0.0f, row[x]));
+    build_guide(cum.data(), w, r, guide);
+    for (uint32_t k = start[y]; k < start[y + 1]; ++k)
+      out[k] = {static_cast<float>(invert(guide, cum.data(), w, us[k], r)), ys[k]};
   }
   return out;
 }

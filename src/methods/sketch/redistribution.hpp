@@ -49,8 +49,10 @@ struct Point {
 // Places `count` points with density proportional to q on a w x h grid by inverting the
 // row-marginal and then the in-row CDF at the R2 low-discrepancy sequence (plastic-number
 // Kronecker sequence), Cranley-Patterson rotated by the seed: deterministic per seed.
-// Lookups go through guide tables (Chen 1974), so time is O(n + count) expected and
-// memory O(n). Returns nothing if q sums to 0.
+// Lookups go through guide tables (Chen 1974) and the points are counting-sorted by row
+// so each row's CDF is built once: time O(n + count) expected, memory O(count + w + h)
+// beyond q. The points come out in row order (top to bottom), which also suits a
+// plotter. Returns nothing if q sums to 0.
 std::vector<Point> place_points(const std::vector<float>& q, int w, int h, size_t count, uint64_t seed);
 
 // Baseline for the benchmark and the evenness test: independent uniform draws inverted

@@ -41,14 +41,21 @@ PreviewStyle parse_preview_style(const std::string& name) {
 void SketchParams::validate() const {
   if (space == ColorSpace::Pens && pens.empty()) throw UserError("--pens: the palette has no pens");
   require_range("--reach", reach, 0, std::sqrt(3.0));
-  require_positive("--cell", cell.value);
-  require_range("--mark", mark_mm, 0, 100);
+  require_nonnegative("--cell", cell.value);
+  require_range("--mark", mark_mm, 0.01, 100);
   require_range("--edge-length", edge_mm, 0, 100);
   require_range("--edge-low", edge_low, 0, 1);
   require_range("--edge-high", edge_high, 0, 1);
   if (!(edge_high > edge_low)) throw UserError("--edge-high must be greater than --edge-low");
   if (max_passes < 1 || max_passes > 10) throw UserError("--passes must be in [1, 10]");
   require_range("--hatch", hatch_deg, -360, 360);
+}
+
+double SketchParams::auto_cell_mm(const std::vector<Pen>& pen_set) const {
+  double w = 0;
+  for (const auto& p : pen_set) w += p.width_mm;
+  w = pen_set.empty() ? 0.3 : w / pen_set.size();
+  return std::max(0.05, std::sqrt(mark_mm * w));
 }
 
 size_t SketchResult::plotted_strokes() const {
@@ -226,7 +233,7 @@ SketchResult sketch_strokes(const Image& image, const SketchParams& params, cons
   const std::vector<Pen> pens = params.space == ColorSpace::Pens ? params.pens : builtin_pens(params.space, placement.pen_width_mm);
   const PageTransform T = placement.transform(image.width, image.height);
   const double mm_per_px = T.mm_per_px();
-  const double cell_mm = params.cell.to_mm(mm_per_px);
+  const double cell_mm = params.cell.value > 0 ? params.cell.to_mm(mm_per_px) : params.auto_cell_mm(pens);
   const double cell_px = cell_mm / mm_per_px;
   const double gw_d = std::max(1.0, std::round(image.width / cell_px));
   const double gh_d = std::max(1.0, std::round(image.height / cell_px));
@@ -254,7 +261,9 @@ SketchResult sketch_strokes(const Image& image, const SketchParams& params, cons
     const auto q = densities(prob[c], pc);
     const size_t count = static_cast<size_t>(std::llround(pc.m));
     const uint64_t pen_seed = params.seed * 0x9E3779B97F4A7C15ULL + c * 0xD1B54A32D192ED03ULL;
-    const auto pts = place_points(q, r.grid_w, r.grid_h, count, pen_seed);
+    const auto pts = params.sampler == SketchParams::Sampler::Random
+                         ? place_points_random(q, r.grid_w, r.grid_h, count, pen_seed)
+                         : place_points(q, r.grid_w, r.grid_h, count, pen_seed);
     Rng thin(pen_seed ^ 0xA5A5A5A5ULL);
     const Rgb01 pc01 = to01(ps.pen.color);
     const double pen_luma = luma01(pc01.r, pc01.g, pc01.b);

@@ -37,7 +37,7 @@ struct SketchParams {
   ColorSpace space = ColorSpace::Rgb;
   std::vector<Pen> pens;          // the user palette (space = Pens); widths in mm
   double reach = 0;               // pens: RGB reach d for every pen; 0 = automatic
-  Length cell{0.8, false};        // sampling grid cell: mm on paper or input px ("3px")
+  Length cell{0, false};          // sampling grid cell: mm on paper or input px ("3px"); 0 = auto_cell_mm()
   double mark_mm = 1.2;           // stroke length where the image is flat
   double edge_mm = 3.5;           // stroke length at strong edges
   double edge_low = 0.04;         // gradient (luma change per cell, 0..1) where strokes start to follow edges
@@ -45,8 +45,15 @@ struct SketchParams {
   int max_passes = 3;             // parallel passes of a stroke at the strongest edges
   double hatch_deg = 45;          // direction of flat marks, degrees counter-clockwise from +x
   Lighten lighten = Lighten::Auto;
+  // How points are drawn from q: the R2 low-discrepancy sequence (Secord's way) or
+  // independent random draws (for comparison; also the benchmark's baseline).
+  enum class Sampler { LowDiscrepancy, Random } sampler = Sampler::LowDiscrepancy;
   uint64_t seed = 1;
   void validate() const;  // UserError naming the option
+  // The default cell: sqrt(mark length x mean pen width), so one flat mark's ink covers
+  // one cell's area; then a pen expecting -ln(1 - p) marks per cell (Secord's m q for
+  // large m) covers 1 - exp(-(-ln(1 - p))) = p of the paper if marks fall independently.
+  double auto_cell_mm(const std::vector<Pen>& pens) const;
   bool lighten_on() const { return lighten == Lighten::On || (lighten == Lighten::Auto && space == ColorSpace::Hsi); }
 };
 
