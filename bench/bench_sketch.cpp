@@ -1,0 +1,116 @@
+// Colour sketch (seed 001). Run: ./build/bench/bench_sketch
+//  - BM_SketchPhotoToSvg: a 12-megapixel photo (coffee.png upscaled to 4243x2828, as a
+//    PNG file) loaded, sketched in RGB mode with the 8 pens, written as SVG; against the
+//    same pipeline with independent random draws (BM_SketchPhotoToSvg_RandomDraws).
+//  - The m solve (Newton from below) against plain bisection, and the LDS placement
+//    (guide tables) against independent draws with binary search, at growing grid
+//    sizes: the per-cell time stays flat (linear in cells).
+#include <filesystem>
+#include <opencv2/imgproc.hpp>
+
+#include "methods/sketch/redistribution.hpp"
+#include "methods/sketch/sketch.hpp"
+#include "preview/preview.hpp"
+#include "ratio_reporter.hpp"
+#include "svg_writer.hpp"
+#include "util/rng.hpp"
+
+namespace {
+
+using namespace stipplot;
+namespace fs = std::filesystem;
+
+const std::string& photo_12mp() {
+  static const std::string path = [] {
+    const std::string out = (fs::temp_directory_path() / "stipplot_bench_coffee_12mp.png").string();
+    if (!fs::exists(out)) {
+      Image src = load_image((fs::path(__FILE__).parent_path().parent_path() / "examples" / "coffee.png").string());
+      Image big;
+      big.width = 4243;
+      big.height = 2828;  // 12.0 Mpx, 3:2
+      big.rgb.resize(big.pixels() * 3);
+      cv::Mat s(src.height, src.width, CV_8UC3, src.rgb.data()), d(big.height, big.width, CV_8UC3, big.rgb.data());
+      cv::resize(s, d, d.size(), 0, 0, cv::INTER_CUBIC);
+      write_png(big, out);
+    }
+    return out;
+  }();
+  return path;
+}
+
+void photo_to_svg(benchmark::State& state, sketch::SketchParams::Sampler sampler) {
+  const std::string in = photo_12mp();
+  const std::string out = (fs::temp_directory_path() / "stipplot_bench_sketch.svg").string();
+  sketch::SketchParams p;
+  p.sampler = sampler;
+  Placement pl;
+  pl.landscape = true;
+  size_t strokes = 0;
+  for (auto _ : state) {
+    Image img = load_image(in);
+    Drawing d = sketch::sketch(img, p, pl);
+    write_svg(d, out);
+    strokes = d.primitive_count();
+  }
+  state.counters["strokes"] = static_cast<double>(strokes);
+  fs::remove(out);
+}
+void BM_SketchPhotoToSvg(benchmark::State& state) { photo_to_svg(state, sketch::SketchParams::Sampler::LowDiscrepancy); }
+void BM_SketchPhotoToSvg_RandomDraws(benchmark::State& state) { photo_to_svg(state, sketch::SketchParams::Sampler::Random); }
+BENCHMARK(BM_SketchPhotoToSvg)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_SketchPhotoToSvg_RandomDraws)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+// A smooth probability field with zeros, like one pen of a photo.
+std::vector<float> field(int side) {
+  std::vector<float> p(static_cast<size_t>(side) * side);
+  Rng rng(5);
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      double v = 0.5 + 0.45 * std::sin(x * 12.0 / side) * std::cos(y * 9.0 / side) + 0.05 * rng.uniform();
+      p[static_cast<size_t>(y) * side + x] = static_cast<float>(v < 0.35 ? 0.0 : v);
+    }
+  return p;
+}
+
+template <bool Naive>
+void solve(benchmark::State& state) {
+  const auto p = field(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    auto pc = Naive ? sketch::solve_point_count_bisection(p) : sketch::solve_point_count(p);
+    benchmark::DoNotOptimize(pc.m);
+  }
+  state.SetComplexityN(static_cast<int64_t>(p.size()));
+  state.counters["ns/cell"] = benchmark::Counter(static_cast<double>(p.size()) * state.iterations(),
+                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+void BM_SolveM(benchmark::State& s) { solve<false>(s); }
+void BM_SolveM_Bisection(benchmark::State& s) { solve<true>(s); }
+BENCHMARK(BM_SolveM)->RangeMultiplier(2)->Range(256, 2048)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
+BENCHMARK(BM_SolveM_Bisection)->RangeMultiplier(2)->Range(256, 2048)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
+
+template <bool Random>
+void place(benchmark::State& state) {
+  const int side = static_cast<int>(state.range(0));
+  const auto p = field(side);
+  const auto pc = sketch::solve_point_count(p);
+  const auto q = sketch::densities(p, pc);
+  const size_t m = static_cast<size_t>(pc.m);
+  for (auto _ : state) {
+    auto pts = Random ? sketch::place_points_random(q, side, side, m, 1) : sketch::place_points(q, side, side, m, 1);
+    benchmark::DoNotOptimize(pts.data());
+  }
+  state.SetComplexityN(static_cast<int64_t>(p.size()));
+  state.counters["points"] = static_cast<double>(m);
+  state.counters["ns/cell"] = benchmark::Counter(static_cast<double>(p.size()) * state.iterations(),
+                                                 benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+void BM_PlacePoints(benchmark::State& s) { place<false>(s); }
+void BM_PlacePoints_RandomBinarySearch(benchmark::State& s) { place<true>(s); }
+BENCHMARK(BM_PlacePoints)->RangeMultiplier(2)->Range(256, 2048)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
+BENCHMARK(BM_PlacePoints_RandomBinarySearch)->RangeMultiplier(2)->Range(256, 2048)->Unit(benchmark::kMillisecond)->Complexity(benchmark::oN);
+
+}  // namespace
+
+STIPPLOT_BENCH_MAIN({{"BM_SketchPhotoToSvg", "BM_SketchPhotoToSvg_RandomDraws"},
+                     {"BM_SolveM/2048", "BM_SolveM_Bisection/2048"},
+                     {"BM_PlacePoints/2048", "BM_PlacePoints_RandomBinarySearch/2048"}})

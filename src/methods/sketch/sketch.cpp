@@ -1,0 +1,384 @@
+#include "methods/sketch/sketch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "methods/sketch/redistribution.hpp"
+#include "util/error.hpp"
+#include "util/rng.hpp"
+
+namespace stipplot::sketch {
+
+ColorSpace parse_color_space(const std::string& name) {
+  if (name == "rgb") return ColorSpace::Rgb;
+  if (name == "hsi") return ColorSpace::Hsi;
+  throw UserError("--space: unknown colour space '" + name + "' (use rgb or hsi)");
+}
+
+const char* to_string(ColorSpace s) {
+  switch (s) {
+    case ColorSpace::Rgb: return "rgb";
+    case ColorSpace::Hsi: return "hsi";
+    case ColorSpace::Pens: return "pens";
+  }
+  return "?";
+}
+
+Lighten parse_lighten(const std::string& name) {
+  if (name == "auto") return Lighten::Auto;
+  if (name == "on") return Lighten::On;
+  if (name == "off") return Lighten::Off;
+  throw UserError("--lighten: expected auto, on or off, got '" + name + "'");
+}
+
+PreviewStyle parse_preview_style(const std::string& name) {
+  if (name == "paper") return PreviewStyle::Paper;
+  if (name == "plot") return PreviewStyle::Plot;
+  throw UserError("--preview-style: expected paper or plot, got '" + name + "'");
+}
+
+void SketchParams::validate() const {
+  if (space == ColorSpace::Pens && pens.empty()) throw UserError("--pens: the palette has no pens");
+  require_range("--reach", reach, 0, std::sqrt(3.0));
+  require_nonnegative("--cell", cell.value);
+  require_range("--mark", mark_mm, 0.01, 100);
+  require_range("--edge-length", edge_mm, 0, 100);
+  require_range("--edge-low", edge_low, 0, 1);
+  require_range("--edge-high", edge_high, 0, 1);
+  if (!(edge_high > edge_low)) throw UserError("--edge-high must be greater than --edge-low");
+  if (max_passes < 1 || max_passes > 10) throw UserError("--passes must be in [1, 10]");
+  require_range("--hatch", hatch_deg, -360, 360);
+}
+
+double SketchParams::auto_cell_mm(const std::vector<Pen>& pen_set) const {
+  double w = 0;
+  for (const auto& p : pen_set) w += p.width_mm;
+  w = pen_set.empty() ? 0.3 : w / pen_set.size();
+  return std::max(0.05, std::sqrt(mark_mm * w));
+}
+
+size_t SketchResult::plotted_strokes() const {
+  size_t n = 0;
+  for (const auto& p : pens)
+    for (const auto& s : p.strokes) n += s.plotted;
+  return n;
+}
+
+std::vector<Pen> builtin_pens(ColorSpace s, double width) {
+  auto pen = [&](const char* name, uint8_t r, uint8_t g, uint8_t b) { return Pen{name, Color{r, g, b}, width}; };
+  if (s == ColorSpace::Rgb)
+    return {pen("red", 255, 0, 0),     pen("green", 0, 255, 0),  pen("blue", 0, 0, 255),
+            pen("yellow", 255, 255, 0), pen("magenta", 255, 0, 255), pen("cyan", 0, 255, 255),
+            pen("black", 0, 0, 0),     pen("grey", 128, 128, 128)};
+  if (s == ColorSpace::Hsi)
+    return {pen("red", 255, 0, 0),  pen("yellow", 255, 255, 0), pen("green", 0, 255, 0), pen("cyan", 0, 255, 255),
+            pen("blue", 0, 0, 255), pen("magenta", 255, 0, 255), pen("black", 0, 0, 0)};
+  return {};
+}
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+struct Rgb01 {
+  double r, g, b;
+};
+Rgb01 to01(Color c) { return {c.r / 255.0, c.g / 255.0, c.b / 255.0}; }
+double luma01(double r, double g, double b) { return 0.299 * r + 0.587 * g + 0.114 * b; }
+
+// HSI hue in [0, 2pi) and saturation; hue < 0 when undefined (grey).
+void hsi(double r, double g, double b, double& hue, double& sat) {
+  const double sum = r + g + b;
+  const double mn = std::min({r, g, b});
+  sat = sum > 0 ? 1.0 - 3.0 * mn / sum : 0.0;
+  const double num = 0.5 * ((r - g) + (r - b));
+  const double den = std::sqrt((r - g) * (r - g) + (r - b) * (g - b));
+  if (den < 1e-9) {
+    hue = -1;
+    return;
+  }
+  double th = std::acos(std::clamp(num / den, -1.0, 1.0));
+  hue = b > g ? 2 * kPi - th : th;
+}
+
+double hue_of_pen(Color c) {
+  double h, s;
+  const Rgb01 p = to01(c);
+  hsi(p.r, p.g, p.b, h, s);
+  return h;
+}
+
+// The RGB reach of each pen: the paper's d for its built-in pens; for a user palette the
+// distance to the nearest other pen, capped at sqrt(3)/2 (or the user's --reach).
+std::vector<double> rgb_reach(const std::vector<Pen>& pens, const SketchParams& p) {
+  const double cap = std::sqrt(3.0) / 2;
+  std::vector<double> d(pens.size(), cap);
+  if (p.space == ColorSpace::Rgb) {
+    for (size_t i = 0; i < pens.size(); ++i)
+      if (pens[i].name == "grey") d[i] = 0.15;
+    return d;
+  }
+  for (size_t i = 0; i < pens.size(); ++i) {
+    if (p.reach > 0) {
+      d[i] = p.reach;
+      continue;
+    }
+    const Rgb01 a = to01(pens[i].color);
+    for (size_t j = 0; j < pens.size(); ++j) {
+      if (j == i) continue;
+      const Rgb01 b = to01(pens[j].color);
+      const double dist = std::sqrt((a.r - b.r) * (a.r - b.r) + (a.g - b.g) * (a.g - b.g) + (a.b - b.b) * (a.b - b.b));
+      if (dist > 0) d[i] = std::min(d[i], dist);  // identical colours under two names: keep the cap
+    }
+  }
+  return d;
+}
+
+cv::Mat as_mat(const Image& im) {
+  return cv::Mat(im.height, im.width, CV_8UC3, const_cast<uint8_t*>(im.rgb.data()));
+}
+
+Image resize_to(const Image& im, int w, int h) {
+  if (im.width == w && im.height == h) return im;
+  Image out;
+  out.width = w;
+  out.height = h;
+  out.rgb.resize(out.pixels() * 3);
+  cv::Mat dst(h, w, CV_8UC3, out.rgb.data());
+  const bool shrink = w <= im.width && h <= im.height;
+  cv::resize(as_mat(im), dst, cv::Size(w, h), 0, 0, shrink ? cv::INTER_AREA : cv::INTER_LINEAR);
+  return out;
+}
+
+double smoothstep(double lo, double hi, double v) {
+  const double t = std::clamp((v - lo) / (hi - lo), 0.0, 1.0);
+  return t * t * (3 - 2 * t);
+}
+
+}  // namespace
+
+std::vector<std::vector<float>> pen_probabilities(const Image& grid, const SketchParams& params,
+                                                  const std::vector<Pen>& pens) {
+  const size_t n = grid.pixels();
+  std::vector<std::vector<float>> p(pens.size(), std::vector<float>(n, 0.0f));
+  if (params.space == ColorSpace::Hsi) {
+    const double r = kPi / 3;
+    std::vector<double> pen_hue(pens.size());
+    for (size_t c = 0; c < pens.size(); ++c) pen_hue[c] = pens[c].name == "black" ? -1 : hue_of_pen(pens[c].color);
+    for (size_t i = 0; i < n; ++i) {
+      double hue, sat;
+      hsi(grid.rgb[3 * i] / 255.0, grid.rgb[3 * i + 1] / 255.0, grid.rgb[3 * i + 2] / 255.0, hue, sat);
+      for (size_t c = 0; c < pens.size(); ++c) {
+        if (pen_hue[c] < 0) {
+          p[c][i] = static_cast<float>(std::exp(-5.0 * sat));
+        } else if (hue >= 0) {
+          double dth = std::abs(hue - pen_hue[c]);
+          dth = std::min(dth, 2 * kPi - dth);
+          p[c][i] = static_cast<float>(std::max(0.0, (r - dth) / r));
+        }
+      }
+    }
+    return p;
+  }
+  const std::vector<double> d = rgb_reach(pens, params);
+  for (size_t c = 0; c < pens.size(); ++c) {
+    const Rgb01 pc = to01(pens[c].color);
+    const double inv = 1.0 / d[c];
+    float* out = p[c].data();
+    for (size_t i = 0; i < n; ++i) {
+      const double dr = grid.rgb[3 * i] / 255.0 - pc.r, dg = grid.rgb[3 * i + 1] / 255.0 - pc.g,
+                   db = grid.rgb[3 * i + 2] / 255.0 - pc.b;
+      const double D = std::sqrt(dr * dr + dg * dg + db * db);
+      out[i] = static_cast<float>(std::max(0.0, (d[c] - D) * inv));
+    }
+  }
+  return p;
+}
+
+EdgeField edge_field(const Image& grid) {
+  EdgeField f;
+  f.w = grid.width;
+  f.h = grid.height;
+  const size_t n = grid.pixels();
+  cv::Mat luma(grid.height, grid.width, CV_32F);
+  for (size_t i = 0; i < n; ++i)
+    luma.ptr<float>()[i] = static_cast<float>(luma01(grid.rgb[3 * i], grid.rgb[3 * i + 1], grid.rgb[3 * i + 2]) / 255.0);
+  cv::Mat gx, gy;
+  // Sobel / 8: luma change per cell.
+  cv::Sobel(luma, gx, CV_32F, 1, 0, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+  cv::Sobel(luma, gy, CV_32F, 0, 1, 3, 1.0 / 8, 0, cv::BORDER_REPLICATE);
+  cv::Mat jxx = gx.mul(gx), jxy = gx.mul(gy), jyy = gy.mul(gy);
+  // Smoothing the structure tensor (not the gradient) keeps opposite gradients on the two
+  // sides of a thin line from cancelling, and steadies the direction in texture.
+  for (cv::Mat* m : {&jxx, &jxy, &jyy}) cv::GaussianBlur(*m, *m, cv::Size(0, 0), 1.0, 1.0, cv::BORDER_REPLICATE);
+  f.tx.resize(n);
+  f.ty.resize(n);
+  f.strength.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double a = jxx.ptr<float>()[i], b = jxy.ptr<float>()[i], c = jyy.ptr<float>()[i];
+    const double lambda1 = 0.5 * (a + c + std::sqrt((a - c) * (a - c) + 4 * b * b));
+    const double grad_angle = 0.5 * std::atan2(2 * b, a - c);  // direction of the gradient
+    f.tx[i] = static_cast<float>(-std::sin(grad_angle));      // rotated 90 degrees: along the edge
+    f.ty[i] = static_cast<float>(std::cos(grad_angle));
+    f.strength[i] = static_cast<float>(std::sqrt(std::max(0.0, lambda1)));
+  }
+  return f;
+}
+
+SketchResult sketch_strokes(const Image& image, const SketchParams& params, const Placement& placement) {
+  params.validate();
+  placement.validate();
+  if (image.pixels() == 0) throw UserError("image has no pixels");
+  const std::vector<Pen> pens = params.space == ColorSpace::Pens ? params.pens : builtin_pens(params.space, placement.pen_width_mm);
+  const PageTransform T = placement.transform(image.width, image.height);
+  const double mm_per_px = T.mm_per_px();
+  const double cell_mm = params.cell.value > 0 ? params.cell.to_mm(mm_per_px) : params.auto_cell_mm(pens);
+  const double cell_px = cell_mm / mm_per_px;
+  const double gw_d = std::max(1.0, std::round(image.width / cell_px));
+  const double gh_d = std::max(1.0, std::round(image.height / cell_px));
+  if (gw_d * gh_d > 50e6)
+    throw UserError("--cell " + std::to_string(cell_mm) + " mm gives a sampling grid of more than 50 million cells; use a larger --cell");
+  SketchResult r;
+  r.page = Page{T.page_w(), T.page_h(), colors::white};
+  r.grid_w = static_cast<int>(gw_d);
+  r.grid_h = static_cast<int>(gh_d);
+  r.cell_mm = cell_mm;
+  const Image grid = resize_to(image, r.grid_w, r.grid_h);
+  const auto prob = pen_probabilities(grid, params, pens);
+  const EdgeField edges = edge_field(grid);
+  const double sx = static_cast<double>(image.width) / r.grid_w, sy = static_cast<double>(image.height) / r.grid_h;
+  const bool lighten = params.lighten_on();
+  const double hatch = params.hatch_deg * kPi / 180;
+  const double hx = std::cos(hatch), hy = -std::sin(hatch);  // y down on the page
+
+  for (size_t c = 0; c < pens.size(); ++c) {
+    PenStrokes ps;
+    ps.pen = pens[c];
+    const PointCount pc = solve_point_count(prob[c]);
+    ps.m = pc.m;
+    ps.degenerate = pc.degenerate;
+    const auto q = densities(prob[c], pc);
+    const size_t count = static_cast<size_t>(std::llround(pc.m));
+    const uint64_t pen_seed = params.seed * 0x9E3779B97F4A7C15ULL + c * 0xD1B54A32D192ED03ULL;
+    const auto pts = params.sampler == SketchParams::Sampler::Random
+                         ? place_points_random(q, r.grid_w, r.grid_h, count, pen_seed)
+                         : place_points(q, r.grid_w, r.grid_h, count, pen_seed);
+    Rng thin(pen_seed ^ 0xA5A5A5A5ULL);
+    const Rgb01 pc01 = to01(ps.pen.color);
+    const double pen_luma = luma01(pc01.r, pc01.g, pc01.b);
+    const double spacing = ps.pen.width_mm * 0.8;
+    ps.strokes.reserve(pts.size());
+    for (const Point& pt : pts) {
+      const int ix = std::clamp(static_cast<int>(pt.x), 0, r.grid_w - 1);
+      const int iy = std::clamp(static_cast<int>(pt.y), 0, r.grid_h - 1);
+      const size_t i = static_cast<size_t>(iy) * r.grid_w + ix;
+      const double g = edges.strength[i];
+      const double s = smoothstep(params.edge_low, params.edge_high, g);
+      double dx = hx, dy = hy;
+      if (g >= params.edge_low) {
+        dx = edges.tx[i];
+        dy = edges.ty[i];
+      }
+      const double len = params.mark_mm + s * (params.edge_mm - params.mark_mm);
+      const int passes = 1 + static_cast<int>(std::lround(s * (params.max_passes - 1)));
+      Stroke st;
+      if (lighten) {
+        const double y = luma01(grid.rgb[3 * i], grid.rgb[3 * i + 1], grid.rgb[3 * i + 2]) / 255.0;
+        st.lighten = pen_luma < 1 ? static_cast<float>(std::max(0.0, (y - pen_luma) / (1 - pen_luma))) : 0.0f;
+        st.plotted = thin.uniform() >= st.lighten;
+      }
+      const Vec2 ctr = T.map(pt.x * sx, pt.y * sy);
+      const double nx = -dy, ny = dx;
+      st.line.pts.reserve(2 * passes);
+      for (int k = 0; k < passes; ++k) {
+        const double off = (k - 0.5 * (passes - 1)) * spacing;
+        const double cx = ctr.x + nx * off, cy = ctr.y + ny * off;
+        const double sgn = (k % 2 == 0) ? 1 : -1;  // zigzag: one pen-down for all passes
+        st.line.pts.push_back({cx - sgn * dx * len / 2, cy - sgn * dy * len / 2});
+        st.line.pts.push_back({cx + sgn * dx * len / 2, cy + sgn * dy * len / 2});
+      }
+      ps.strokes.push_back(std::move(st));
+    }
+    r.pens.push_back(std::move(ps));
+  }
+  return r;
+}
+
+Drawing to_drawing(const SketchResult& r) {
+  Drawing d;
+  d.page = r.page;
+  for (const auto& ps : r.pens) {
+    Layer l;
+    l.pen = ps.pen;
+    for (const auto& s : ps.strokes)
+      if (s.plotted) l.lines.push_back(s.line);
+    if (!l.lines.empty()) d.layers.push_back(std::move(l));
+  }
+  return d;
+}
+
+Drawing sketch(const Image& image, const SketchParams& params, const Placement& placement) {
+  return to_drawing(sketch_strokes(image, params, placement));
+}
+
+Image render_sketch_preview(const SketchResult& r, double dpi, PreviewStyle style) {
+  require_range("--preview-dpi", dpi, 10, 2400);
+  const double s = dpi / 25.4;
+  const double wd = std::ceil(r.page.width_mm * s), hd = std::ceil(r.page.height_mm * s);
+  if (wd * hd > 200e6) throw UserError("preview would be too large; lower --preview-dpi");
+  const int W = static_cast<int>(wd), H = static_cast<int>(hd);
+  const size_t n = static_cast<size_t>(W) * H;
+  std::vector<float> sum(3 * n, 0.0f), wsum(n, 0.0f), cov(n, 0.0f);
+  for (const auto& ps : r.pens) {
+    const Rgb01 pen = to01(ps.pen.color);
+    const double rad = std::max(0.5, ps.pen.width_mm * s / 2);
+    for (const auto& st : ps.strokes) {
+      if (style == PreviewStyle::Plot && !st.plotted) continue;
+      const double t = style == PreviewStyle::Paper ? st.lighten : 0.0;
+      const float cr = static_cast<float>(pen.r + t * (1 - pen.r)), cg = static_cast<float>(pen.g + t * (1 - pen.g)),
+                  cb = static_cast<float>(pen.b + t * (1 - pen.b));
+      const auto& P = st.line.pts;
+      for (size_t k = 0; k + 1 < P.size(); ++k) {
+        const double ax = P[k].x * s, ay = P[k].y * s, bx = P[k + 1].x * s, by = P[k + 1].y * s;
+        const int x0 = std::max(0, static_cast<int>(std::floor(std::min(ax, bx) - rad - 1)));
+        const int x1 = std::min(W - 1, static_cast<int>(std::ceil(std::max(ax, bx) + rad + 1)));
+        const int y0 = std::max(0, static_cast<int>(std::floor(std::min(ay, by) - rad - 1)));
+        const int y1 = std::min(H - 1, static_cast<int>(std::ceil(std::max(ay, by) + rad + 1)));
+        const double vx = bx - ax, vy = by - ay, vv = vx * vx + vy * vy;
+        for (int y = y0; y <= y1; ++y) {
+          for (int x = x0; x <= x1; ++x) {
+            const double px = x + 0.5 - ax, py = y + 0.5 - ay;
+            const double u = vv > 0 ? std::clamp((px * vx + py * vy) / vv, 0.0, 1.0) : 0.0;
+            const double ex = px - u * vx, ey = py - u * vy;
+            const double w = std::clamp(rad + 0.5 - std::sqrt(ex * ex + ey * ey), 0.0, 1.0);
+            if (w <= 0) continue;
+            const size_t o = static_cast<size_t>(y) * W + x;
+            const float wf = static_cast<float>(w);
+            sum[3 * o] += wf * cr;
+            sum[3 * o + 1] += wf * cg;
+            sum[3 * o + 2] += wf * cb;
+            wsum[o] += wf;
+            cov[o] = std::max(cov[o], wf);
+          }
+        }
+      }
+    }
+  }
+  Image im;
+  im.width = W;
+  im.height = H;
+  im.rgb.resize(3 * n);
+  const Rgb01 paper = to01(r.page.paper);
+  const double pp[3] = {paper.r, paper.g, paper.b};
+  for (size_t o = 0; o < n; ++o) {
+    for (int ch = 0; ch < 3; ++ch) {
+      double v = pp[ch];
+      if (wsum[o] > 0) v = pp[ch] * (1 - cov[o]) + (sum[3 * o + ch] / wsum[o]) * cov[o];
+      im.rgb[3 * o + ch] = static_cast<uint8_t>(std::lround(std::clamp(v, 0.0, 1.0) * 255));
+    }
+  }
+  return im;
+}
+
+}  // namespace stipplot::sketch
