@@ -21,7 +21,7 @@ struct PointillismArgs {
   PlacementArgs place;
   pointillism::Params p;
   std::string radius = "3";
-  bool no_ebauche = false;
+  bool no_ebauche = false, no_strokes = false;
   std::string pens_file;
   bool plot_pens = false;
   std::string regions_png;
@@ -68,7 +68,11 @@ void register_pointillism(CLI::App& app) {
       ->capture_default_str()->group(g);
   cmd->add_option("--blur", args->p.blur_sigma, "Gaussian blur sigma (px) before splitting regions")
       ->capture_default_str()->group(g);
+  cmd->add_option("--ebauche-misses", args->p.ebauche_misses,
+                  "Ebauche dart throwing stops after this many misses in a row (0 = maximal, no white left)")
+      ->capture_default_str()->group(g);
   cmd->add_flag("--no-ebauche", args->no_ebauche, "Divided strokes on white paper only")->group(g);
+  cmd->add_flag("--no-strokes", args->no_strokes, "The ebauche alone (Fig. 6b)")->group(g);
   cmd->add_option("--seed", args->p.seed, "Random seed; the same seed gives the same drawing")
       ->capture_default_str()->group(g);
   cmd->add_flag("--plot-pens", args->plot_pens, "Map colours to the built-in fineliner palette, one layer per pen")
@@ -85,6 +89,7 @@ void register_pointillism(CLI::App& app) {
     auto t0 = std::chrono::steady_clock::now();
     PointillismArgs& a = *args;
     a.p.ebauche = !a.no_ebauche;
+    a.p.strokes = !a.no_strokes;
     Length radius = Length::parse(a.radius, "--radius");
     // A bare number is pixels here (the paper's r = 3 px); "mm" asks for millimetres on paper.
     const bool radius_mm = a.radius.size() > 2 && a.radius.compare(a.radius.size() - 2, 2, "mm") == 0;

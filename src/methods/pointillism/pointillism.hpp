@@ -33,6 +33,13 @@ struct Params {
   double grey_chroma = 6;      // regions with |p_k| below this get no complement (see .cpp)
   double blur_sigma = 2;       // Gaussian blur before region splitting, pixels
   bool ebauche = true;         // false: divided strokes on white only
+  bool strokes = true;         // false: the ebauche alone (Fig. 6b)
+  // Dart throwing gives up after this many rejections in a row, as classic PDS does.
+  // With α_e = 0.5 the exclusion distance equals r, so where a dart can still land is
+  // exactly where no circle covers the canvas: stopping while a few darts in a hundred
+  // still land leaves the white ground peeking through, as in the paper's Fig. 6(b)
+  // and Seurat's ebauche. 0 = maximal (the canvas fully covered).
+  size_t ebauche_misses = 100;
   uint64_t seed = 1;
   void validate() const;       // UserError naming the CLI option
 };
@@ -77,11 +84,15 @@ size_t pure_count(size_t n, const lab::Lab& pk, const lab::Lab& pi, const lab::L
 // uniform, like a global Fisher-Yates, but without its n cache misses. O(n).
 std::vector<uint32_t> random_order(size_t n, Rng& rng);
 
-// Maximal Poisson disk sample of equal discs on the pixel grid: pixels visited in
-// `order`; a pixel is taken unless a taken one lies at distance < min_dist (the paper's
-// strict d < α(r_i + r_j)). Uniform grid: O(n) expected for fixed min_dist.
-std::vector<uint32_t> equal_disc_pds(int width, int height, double min_dist, const std::vector<uint32_t>& order);
-// The same by brute force (every placed disc checked): O(n * dots). Benchmark baseline.
+// Poisson disk sample of equal discs on the pixel grid by dart throwing: pixels visited
+// in `order`; a pixel is taken unless a taken one lies at distance < min_dist (the
+// paper's strict d < α(r_i + r_j)). Stops after `max_misses` rejections in a row
+// (0 = never: a maximal sample). Blocked-pixel map: O(n + dots * min_dist^2) time,
+// O(n) bytes.
+std::vector<uint32_t> equal_disc_pds(int width, int height, double min_dist, const std::vector<uint32_t>& order,
+                                     size_t max_misses = 0);
+// The same by brute force (every placed disc checked): O(n * dots). Benchmark baseline
+// and test oracle.
 std::vector<uint32_t> equal_disc_pds_naive(int width, int height, double min_dist,
                                            const std::vector<uint32_t>& order);
 
