@@ -158,10 +158,16 @@ void register_pointillism(CLI::App& app) {
     if (a.fidelity) {
       // One preview pixel per input pixel, then the image's rectangle cut out.
       const double dpi = std::clamp(25.4 / tf.mm_per_px(), 10.0, 2400.0);
-      Image page = render_preview(d, preview_options(dpi, !pens.empty()));
-      Image drawn = crop_to_image(page, tf, img.width, img.height);
       const double sigma = a.fidelity_sigma > 0 ? a.fidelity_sigma : 2 * a.p.radius_px;
-      s["mean_de00"] = pointillism::mean_delta_e00_blurred(img, drawn, sigma);
+      auto measure = [&](bool ink_multiplies) {
+        Image page = render_preview(d, preview_options(dpi, ink_multiplies));
+        Image drawn = crop_to_image(page, tf, img.width, img.height);
+        return pointillism::mean_delta_e00_blurred(img, drawn, sigma);
+      };
+      s["mean_de00"] = measure(!pens.empty());
+      // With pens, also as if the inks were opaque: the palette's error alone, without
+      // the darkening of translucent ink where circles overlap.
+      if (!pens.empty()) s["mean_de00_opaque"] = measure(false);
       s["fidelity_sigma_px"] = sigma;
     }
     s["seconds_method"] = method_s;
