@@ -294,6 +294,11 @@ TEST_CASE("N_pi to N_pj ratio per region follows the paper's formula (1)-(2)", "
       const double want = std::min(W * static_cast<double>(g.n) * dkj / (dki + dkj), static_cast<double>(g.n));
       CHECK(std::abs(static_cast<double>(np) - want) <= 0.5 + 1e-9);
       CHECK(nc == g.n - np);
+      // With W = 1 and p_k inside the circle, the dots' mean a*b* is p_k itself: the
+      // optical mixture keeps the region's colour (|p_k| = R (N_pi - N_pj) / N).
+      const double ck = std::hypot(g.mean.a, g.mean.b);
+      if (W == 1.0 && g.n >= 20 && ck <= g.circle)
+        CHECK(g.circle * (double(np) - double(nc)) / double(g.n) == Approx(ck).margin(g.circle / double(g.n) + 1e-9));
     }
     CHECK(total == r.strokes.size());
   }
@@ -409,6 +414,15 @@ TEST_CASE("pen palettes - TOML parsed - malformed files rejected with the line",
   CHECK_THROWS_WITH(parse_pens("[[pen]\nname = 1", "p.toml"), Catch::Contains("p.toml:1"));
   CHECK_THROWS_AS(PenMatcher({}), UserError);
   CHECK(default_pens().size() >= 12);
+  // The shipped example file is the built-in palette.
+  const auto file = load_pens(std::string(STIPPLOT_SOURCE_DIR) + "/src/methods/pointillism/fineliners.toml");
+  const auto builtin = default_pens();
+  REQUIRE(file.size() == builtin.size());
+  for (size_t i = 0; i < file.size(); ++i) {
+    CHECK(file[i].name == builtin[i].name);
+    CHECK(file[i].color == builtin[i].color);
+    CHECK(file[i].width_mm == builtin[i].width_mm);
+  }
 }
 
 TEST_CASE("bad parameters are rejected naming the option", "[pointillism]") {

@@ -191,7 +191,12 @@ void split_regions(const Image& image, const Params& p, Result& r) {
     if (!g.grey) {
       complementary_pair(g.mean.a, g.mean.b, g.circle, g.pure, g.complement);
     } else {
-      g.pure = g.mean;  // near grey: the region's own colour, no complement
+      // Near grey (the paper leaves it unsolved): the hue of p_k is then noise (JPEG,
+      // white balance), and the construction would lay saturated pure and complement
+      // dots of that random hue over a grey area -- coloured confetti, mixing to grey
+      // only on average (with W = 1 the dots' mean a*b* is p_k). So below the threshold
+      // the dots take the region's own colour: no complement, no invented hue.
+      g.pure = g.mean;
       g.complement = g.mean;
     }
     g.pure.L = g.complement.L = g.L;
