@@ -90,7 +90,13 @@ void register_pointillism(CLI::App& app) {
     PointillismArgs& a = *args;
     a.p.ebauche = !a.no_ebauche;
     a.p.strokes = !a.no_strokes;
-    Length radius = Length::parse(a.radius, "--radius");
+    Length radius;
+    try {
+      radius = Length::parse(a.radius, "--radius");
+    } catch (const UserError&) {
+      throw UserError("--radius must be a number > 0 of input pixels (3, 3px) or millimetres (0.5mm), got '" +
+                      a.radius + "'");
+    }
     // A bare number is pixels here (the paper's r = 3 px); "mm" asks for millimetres on paper.
     const bool radius_mm = a.radius.size() > 2 && a.radius.compare(a.radius.size() - 2, 2, "mm") == 0;
     if (!(radius.value > 0)) throw UserError("--radius must be > 0, got '" + a.radius + "'");
