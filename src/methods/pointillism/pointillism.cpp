@@ -297,7 +297,11 @@ Drawing place(const Result& r, const Placement& placement, const std::vector<Pen
     if (!st.circles.empty()) d.layers.push_back(std::move(st));
     return d;
   }
-  PenMatcher match(pens);
+  // The paper is a free "pen": a circle nearer to it than to every ink is left undrawn
+  // (white highlights would otherwise become the palette's lightest grey).
+  std::vector<Pen> candidates = pens;
+  candidates.push_back(Pen{"paper", d.page.paper, 0});
+  PenMatcher match(candidates);
   // Light inks before dark within each pass, so a dark pen never drags into a light one's
   // wet ink; the ebauche's pass before the strokes'.
   std::vector<size_t> by_light(pens.size());
@@ -308,6 +312,7 @@ Drawing place(const Result& r, const Placement& placement, const std::vector<Pen
     std::vector<Layer> layers(pens.size());
     for (const auto& p : dots) {
       const size_t k = match.nearest(p.color);
+      if (k == pens.size()) continue;  // the paper
       layers[k].circles.push_back(circle(p, pens[k].color));
     }
     for (size_t k : by_light) {

@@ -104,7 +104,8 @@ Result paint(const Image& image, const Params& params);
 // "divided strokes" above), every circle filled with its exact colour. With pens: every
 // circle's colour mapped to the nearest pen (CIEDE2000), one layer per pen used, the
 // ebauche's layers first; circles filled with the pen colour (the planner fills them
-// at the pen width). O(dots + distinct colours * pens).
+// at the pen width); a circle nearer the paper colour than to every pen is not drawn.
+// O(dots + distinct colours * pens).
 Drawing place(const Result& r, const Placement& placement, const std::vector<Pen>& pens = {});
 
 Drawing pointillism(const Image& image, const Params& params, const Placement& placement,
