@@ -7,6 +7,7 @@ void register_all(CLI::App& app) {
   register_eval(app);
   register_tree(app);
   register_sketch(app);
+  register_pointillism(app);
 }
 
 }  // namespace stipplot::cli

@@ -7,5 +7,6 @@ void register_stipple(CLI::App& app);
 void register_eval(CLI::App& app);
 void register_tree(CLI::App& app);
 void register_sketch(CLI::App& app);
+void register_pointillism(CLI::App& app);
 void register_all(CLI::App& app);
 }  // namespace stipplot::cli
