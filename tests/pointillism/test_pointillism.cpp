@@ -429,7 +429,7 @@ TEST_CASE("pen palettes - TOML parsed - malformed files rejected with the line",
   }
 }
 
-TEST_CASE("bad parameters are rejected naming the option", "[pointillism]") {
+TEST_CASE("pointillism: bad parameters are rejected naming the option", "[pointillism]") {
   const Image img = synthetic(40, 30);
   auto bad = [&](auto set, const char* name) {
     Params p;

@@ -274,7 +274,7 @@ TEST_CASE("tiny and uniform images do not hang or divide by zero", "[sketch]") {
   }
 }
 
-TEST_CASE("bad parameters are rejected naming the option", "[sketch]") {
+TEST_CASE("sketch: bad parameters are rejected naming the option", "[sketch]") {
   SketchParams p;
   auto bad = [&](auto change, const char* name) {
     SketchParams q = p;
