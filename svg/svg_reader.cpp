@@ -457,6 +457,7 @@ class Reader {
     } else {
       return;  // unknown elements (use, text...) draw nothing here
     }
+    flush_current();
     if (!shape_.empty()) add_lines(style, layer);
   }
 
