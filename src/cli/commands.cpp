@@ -5,6 +5,7 @@ namespace stipplot::cli {
 void register_all(CLI::App& app) {
   register_stipple(app);
   register_eval(app);
+  register_profiles(app);
 }
 
 }  // namespace stipplot::cli
