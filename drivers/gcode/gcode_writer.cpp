@@ -35,7 +35,12 @@ void append_number(std::string& out, double v, int decimals) {
 class GcodeEmitter {
  public:
   GcodeEmitter(const Plan& plan, const DeviceProfile& p, const LineSink& sink, const GcodeOptions& opt)
-      : plan_(plan), p_(p), sink_(sink), opt_(opt), t_(p, plan.page), decimals_(decimals_for(t_.step_mm())) {}
+      : plan_(plan), p_(p), sink_(sink), opt_(opt), t_(p, plan.page), decimals_(decimals_for(t_.step_mm())) {
+    pow10_ = 1;
+    for (int i = 0; i < decimals_; ++i) pow10_ *= 10;
+    double k = t_.step_mm() * static_cast<double>(pow10_);
+    if (decimals_ < 6 && std::fabs(k - std::round(k)) < 1e-6) step_units_ = std::llround(k);
+  }
 
   void run() {
     size_t strokes = 0;
@@ -78,9 +83,38 @@ class GcodeEmitter {
 
   void xy(std::string& line, Steps s) {
     line += " X";
-    append_number(line, static_cast<double>(s.x) * t_.step_mm(), decimals_);
+    coordinate(line, s.x);
     line += " Y";
-    append_number(line, static_cast<double>(s.y) * t_.step_mm(), decimals_);
+    coordinate(line, s.y);
+  }
+
+  // steps * step_mm printed exactly: with step = k / 10^decimals (k whole) the value is the
+  // integer steps*k with the point `decimals` digits from the right, zeros trimmed.
+  void coordinate(std::string& out, int64_t steps) {
+    if (step_units_ <= 0) {
+      append_number(out, static_cast<double>(steps) * t_.step_mm(), decimals_);
+      return;
+    }
+    int64_t v = steps * step_units_;
+    if (v < 0) {
+      out += '-';
+      v = -v;
+    }
+    int64_t whole = v / pow10_, frac = v % pow10_;
+    char buf[32];
+    int n = std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(whole));
+    out.append(buf, static_cast<size_t>(n));
+    if (frac) {
+      char digits[16];
+      int d = decimals_;
+      for (int i = d - 1; i >= 0; --i) {
+        digits[i] = static_cast<char>('0' + frac % 10);
+        frac /= 10;
+      }
+      while (d > 0 && digits[d - 1] == '0') --d;
+      out += '.';
+      out.append(digits, static_cast<size_t>(d));
+    }
   }
 
   void feed(std::string& line, double mm_s) {
@@ -193,6 +227,8 @@ class GcodeEmitter {
   const GcodeOptions& opt_;
   MachineTransform t_;
   int decimals_;
+  int64_t pow10_ = 1;
+  int64_t step_units_ = 0;  // step_mm * 10^decimals when whole, else 0 (printf path)
   Steps pos_;
   bool have_pos_ = false;
   bool down_ = false;
