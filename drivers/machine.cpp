@@ -25,6 +25,11 @@ Vec2 MachineTransform::to_machine_mm(Vec2 p) const {
   return {p_.x_sign * (dx - p_.origin_offset_x_mm), p_.y_sign * (dy - p_.origin_offset_y_mm)};
 }
 
+Vec2 MachineTransform::page_position_of_machine_zero() const {
+  return {p_.origin_offset_x_mm,
+          p_.origin == Origin::top_left ? p_.origin_offset_y_mm : page_h_ - p_.origin_offset_y_mm};
+}
+
 Steps MachineTransform::to_steps(Vec2 page_mm) const {
   Vec2 m = to_machine_mm(page_mm);
   return {std::llround(m.x / step_), std::llround(m.y / step_)};
@@ -45,7 +50,7 @@ void check_plan_fits(const Plan& plan, const DeviceProfile& profile) {
             << ") is at machine (" << m.x << ", " << m.y << ") mm, outside the travel of profile "
             << profile.name << " (" << t.lo().x * t.step_mm() << ".." << t.hi().x * t.step_mm() << " x "
             << t.lo().y * t.step_mm() << ".." << t.hi().y * t.step_mm()
-            << " mm); use a smaller page or margin, or another profile";
+            << " mm); use a larger margin, a smaller page, or another profile";
         throw UserError(msg.str());
       }
     }

@@ -29,6 +29,8 @@ class MachineTransform {
   bool inside(Steps s) const {
     return s.x >= lo_.x && s.x <= hi_.x && s.y >= lo_.y && s.y <= hi_.y;
   }
+  // Where machine zero (the pen's start) lies on the page, in page mm.
+  Vec2 page_position_of_machine_zero() const;
   double step_mm() const { return step_; }
   Steps lo() const { return lo_; }
   Steps hi() const { return hi_; }
