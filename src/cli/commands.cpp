@@ -6,6 +6,7 @@ void register_all(CLI::App& app) {
   register_stipple(app);
   register_eval(app);
   register_profiles(app);
+  register_export(app);
 }
 
 }  // namespace stipplot::cli

@@ -6,5 +6,6 @@ namespace stipplot::cli {
 void register_stipple(CLI::App& app);
 void register_eval(CLI::App& app);
 void register_profiles(CLI::App& app);
+void register_export(CLI::App& app);
 void register_all(CLI::App& app);
 }  // namespace stipplot::cli
