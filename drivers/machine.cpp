@@ -42,6 +42,14 @@ void check_plan_fits(const Plan& plan, const DeviceProfile& profile) {
       for (const auto& p : s.pts) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y))
           throw UserError("plan layer " + std::to_string(li + 1) + " has a non-finite coordinate");
+        const double slack = t.step_mm() / 2;
+        if (p.x < -slack || p.y < -slack || p.x > plan.page.width_mm + slack || p.y > plan.page.height_mm + slack) {
+          std::ostringstream msg;
+          msg.precision(2);
+          msg << std::fixed << "point (" << p.x << ", " << p.y << ") mm (layer " << li + 1 << ") is off the "
+              << plan.page.width_mm << " x " << plan.page.height_mm << " mm page";
+          throw UserError(msg.str());
+        }
         if (t.inside(t.to_steps(p))) continue;
         Vec2 m = t.to_machine_mm(p);
         std::ostringstream msg;

@@ -42,8 +42,9 @@ class MachineTransform {
   Steps lo_, hi_;
 };
 
-// Throws UserError naming the first plan point (page mm and machine mm) that falls outside
-// the profile's travel, before anything is written or sent. O(total points).
+// Throws UserError naming the first plan point that is off the page or (page mm and
+// machine mm) outside the profile's travel, before anything is written or sent.
+// O(total points).
 void check_plan_fits(const Plan& plan, const DeviceProfile& profile);
 
 // Receives one command line at a time, without a line terminator.

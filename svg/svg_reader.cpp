@@ -409,6 +409,10 @@ class Reader {
       walk_children(e, ctm, style, layer);
       return;
     }
+    if (std::strcmp(tag, "use") == 0) {
+      use(e, ctm, style, layer);
+      return;
+    }
     if (!style.visible) return;
 
     shape_ = {};
@@ -459,6 +463,35 @@ class Reader {
     }
     flush_current();
     if (!shape_.empty()) add_lines(style, layer);
+  }
+
+  // <use href="#id" x y>: the referenced element (a <symbol>'s children) drawn here.
+  void use(const tinyxml2::XMLElement* e, const Affine& ctm, const Style& style, const std::string* layer) {
+    const char* href = e->Attribute("href");
+    if (!href) href = e->Attribute("xlink:href");
+    if (!href || href[0] != '#') return;
+    if (ids_.empty()) index_ids(e->GetDocument()->RootElement());
+    auto it = ids_.find(href + 1);
+    if (it == ids_.end()) fail(e, std::string("href=\"") + href + "\" names no element");
+    if (use_depth_ >= 16) fail(e, "<use> nested too deeply (a reference cycle?)");
+    ++use_depth_;
+    Affine t = ctm * Affine{1, 0, 0, 1, length_attr(e, "x", 0), length_attr(e, "y", 0)};
+    const tinyxml2::XMLElement* target = it->second;
+    if (std::strcmp(local(target->Name()), "symbol") == 0) {
+      Style st = style;
+      apply_style(target, st, t);
+      walk_children(target, t, st, layer);
+    } else {
+      walk(target, t, style, layer);
+    }
+    --use_depth_;
+  }
+
+  void index_ids(const tinyxml2::XMLElement* e) {
+    for (; e; e = e->NextSiblingElement()) {
+      if (const char* id = e->Attribute("id")) ids_.emplace(id, e);
+      index_ids(e->FirstChildElement());
+    }
   }
 
   // ---------- geometry builders (everything lands in page mm) ----------
@@ -768,6 +801,8 @@ class Reader {
   const SvgReadOptions& opt_;
   Drawing drawing_;
   std::map<std::string, LayerInfo> index_;
+  std::map<std::string, const tinyxml2::XMLElement*> ids_;
+  int use_depth_ = 0;
   std::vector<Vec2> cur_;
   std::vector<Polyline> shape_;
 };

@@ -411,3 +411,16 @@ TEST_CASE("planned SVG keeps plot order and hides the travel layer", "[svg][writ
     for (size_t k = 0; k < firsts.size(); ++k) CHECK(back.layers[li].lines[k].pts[0].x == Approx(firsts[k].x).margin(1e-3));
   }
 }
+
+TEST_CASE("<use> draws the referenced element or symbol where it is used", "[svg]") {
+  Drawing d = parse(mm_svg(R"~(<defs><line id="l" x1="0" y1="0" x2="1" y2="0" stroke="black"/>
+      <symbol id="s"><line x1="0" y1="0" x2="0" y2="2" stroke="black"/></symbol></defs>
+      <use href="#l" x="10" y="20"/>
+      <g transform="translate(5 5)"><use xlink:href="#s" x="1" y="1"/></g>)~"));
+  auto lines = all_lines(d);
+  REQUIRE(lines.size() == 2);
+  check_pts(lines[0], {{10, 20}, {11, 20}});
+  check_pts(lines[1], {{6, 6}, {6, 8}});
+  CHECK(error_of(mm_svg("<use href=\"#nothing\"/>")).find("names no element") != std::string::npos);
+  CHECK(error_of(mm_svg("<g id=\"a\"><use href=\"#a\"/></g>")).find("cycle") != std::string::npos);
+}

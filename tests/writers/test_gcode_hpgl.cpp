@@ -294,7 +294,7 @@ TEST_CASE("machine transform applies origin, axis signs and offsets", "[writers]
 
 TEST_CASE("a plan outside the travel is refused naming the point, and no file is left", "[writers]") {
   DeviceProfile prof = find_profile("grbl-servo");
-  Plan plan = test::random_plan(1, 1, 5, 0);
+  Plan plan = test::random_plan(1, 1, 5, 0, 500, 297);
   plan.layers[0].strokes.push_back({{{100, 50}, {445.5, 60}}});
   const fs::path out = fs::temp_directory_path() / "stipplot_oob_test.gcode";
   fs::remove(out);
@@ -307,6 +307,15 @@ TEST_CASE("a plan outside the travel is refused naming the point, and no file is
     CHECK(msg.find("grbl-servo") != std::string::npos);
   }
   CHECK_FALSE(fs::exists(out));
+  // a point off the page is refused even where the machine could reach it
+  Plan off = test::random_plan(1, 1, 5, 0);
+  off.layers[0].strokes.push_back({{{-1, 50}}});
+  try {
+    gcode_lines(off, prof);
+    FAIL("expected a UserError");
+  } catch (const UserError& e) {
+    CHECK(std::string(e.what()).find("(-1.00, 50.00) mm (layer 1) is off the 210.00 x 297.00 mm page") != std::string::npos);
+  }
   // HPGL too: an A4 portrait page does not fit the 7475A's A4-landscape area.
   DeviceProfile hp = find_profile("hp7475a-a4");
   CHECK_THROWS_AS(hpgl_commands(test::random_plan(2, 1, 50, 5), hp), UserError);
