@@ -59,6 +59,9 @@ void check_plan_fits(const Plan& plan, const DeviceProfile& profile) {
             << profile.name << " (" << t.lo().x * t.step_mm() << ".." << t.hi().x * t.step_mm() << " x "
             << t.lo().y * t.step_mm() << ".." << t.hi().y * t.step_mm()
             << " mm); use a larger margin, a smaller page, or another profile";
+        const bool page_portrait = plan.page.height_mm > plan.page.width_mm;
+        const bool travel_landscape = profile.travel_x_mm > profile.travel_y_mm;
+        if (page_portrait && travel_landscape) msg << " (the page is portrait, the device's area landscape: try --landscape)";
         throw UserError(msg.str());
       }
     }
