@@ -56,7 +56,12 @@ std::vector<Seg> expected_segments(const Plan& plan, const DeviceProfile& prof) 
   return out;
 }
 
-int64_t to_steps(double mm, double step) { return std::llround(mm / step); }
+// Coordinates must be whole multiples of the device's resolution.
+int64_t to_steps(double mm, double step) {
+  double s = mm / step;
+  REQUIRE(std::fabs(s - std::round(s)) < 1e-6);
+  return std::llround(s);
+}
 
 struct GcodeRun {
   std::vector<Seg> drawn;
