@@ -8,6 +8,8 @@ void register_all(CLI::App& app) {
   register_tree(app);
   register_sketch(app);
   register_pointillism(app);
+  register_profiles(app);
+  register_export(app);
 }
 
 }  // namespace stipplot::cli

@@ -8,5 +8,7 @@ void register_eval(CLI::App& app);
 void register_tree(CLI::App& app);
 void register_sketch(CLI::App& app);
 void register_pointillism(CLI::App& app);
+void register_profiles(CLI::App& app);
+void register_export(CLI::App& app);
 void register_all(CLI::App& app);
 }  // namespace stipplot::cli
