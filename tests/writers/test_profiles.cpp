@@ -118,7 +118,7 @@ TEST_CASE("a wrong-typed, out-of-range or unknown key is named", "[profiles]") {
   CHECK(e.find("test.toml line 2") != std::string::npos);
 }
 
-TEST_CASE("--profile takes a path, and an unknown name lists the known ones", "[profiles]") {
+TEST_CASE("the profile option takes a path, and an unknown name lists the known ones", "[profiles]") {
   fs::path p = fs::path(STIPPLOT_SOURCE_DIR) / "drivers" / "profiles" / "grbl-laser.toml";
   CHECK(find_profile(p.string()).pen_method == PenMethod::laser);
   try {
