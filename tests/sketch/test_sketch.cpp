@@ -239,7 +239,7 @@ TEST_CASE("lightening: paper preview lightens, the plot thins in proportion", "[
   }
 }
 
-TEST_CASE("the same seed gives the same sketch; another seed another", "[sketch]") {
+TEST_CASE("the same seed gives the same sketch, another seed another", "[sketch]") {
   SketchParams p;
   Image im = patches({Color{200, 30, 30}, Color{20, 20, 20}}, 40);
   auto a = sketch_strokes(im, p, Placement{}), b = sketch_strokes(im, p, Placement{});

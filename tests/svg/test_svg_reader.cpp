@@ -285,7 +285,7 @@ TEST_CASE("units: width/height with viewBox, px at 96 per inch, in, cm, pt", "[s
   check_pts(all_lines(none).at(0), {{0, 0}, {200, 100}}, 1e-9);
 }
 
-TEST_CASE("Inkscape layers become pens by label; others by stroke colour; hidden content skipped", "[svg]") {
+TEST_CASE("Inkscape layers become pens by label, others by stroke colour, hidden content skipped", "[svg]") {
   Drawing d = parse(mm_svg(R"~(
     <g inkscape:groupmode="layer" inkscape:label="1 red pen" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape">
       <line x1="0" y1="0" x2="1" y2="0" stroke="#ff0000" stroke-width="0.4"/>

@@ -204,7 +204,7 @@ TEST_CASE("direction claims on a smooth radial gradient: BD along iso-lines, SIB
   CHECK(m[2] > m[0] + 0.05);
 }
 
-TEST_CASE("cross variants: edges join the points; CBD runs along edges, CSIBD across them", "[tree][claims]") {
+TEST_CASE("cross variants: edges join the points, CBD runs along edges, CSIBD across them", "[tree][claims]") {
   // A bright disc on a dark ground: one circular major edge.
   const Image img = image_from(240, 240, [](int x, int y) { return std::hypot(x - 120, y - 120) < 70 ? 220 : 40; });
   TreeParams p;
