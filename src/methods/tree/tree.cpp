@@ -130,6 +130,11 @@ TreeResult tree_pixels(const Image& image, const TreeParams& p) {
       if (r.edge_mask[i] && !taken[i]) r.points.push(float(i % w), float(i / w), r.field[i]);
   }
 
+  // The O(n²) reference is for comparison; past this it would run for many minutes.
+  constexpr size_t kMaxPrimPoints = 200'000;
+  if (p.reference_prim && r.points.size() > kMaxPrimPoints)
+    throw UserError("--reference-prim: " + std::to_string(r.points.size()) + " points is too many for the O(n^2) Prim (at most " +
+                    std::to_string(kMaxPrimPoints) + "); drop it to use the fast exact MST");
   t0 = std::chrono::steady_clock::now();
   for (Distance kind : p.variant.layers) {
     CostParams c;
