@@ -368,3 +368,21 @@ TEST_CASE("stipplot tree CLI: bad parameters exit non-zero with the name and lea
   REQUIRE(std::filesystem::exists(out));
   REQUIRE(std::filesystem::exists(land));
 }
+
+TEST_CASE("tiny images: one point, no segments, terrain still the image size", "[tree][edge-cases]") {
+  for (const char* v : {"sibd", "csibd", "bd+sibd"}) {
+    for (int w : {1, 2, 5}) {
+      const Image img = image_from(w, 1, [](int x, int) { return 30.0 * x; });
+      TreeParams p;
+      p.variant = parse_variant(v);
+      const TreeResult r = tree_pixels(img, p);
+      REQUIRE(r.points.size() >= 1);
+      for (const auto& l : r.layers) REQUIRE(spans(l.edges, r.points.size()));
+      const Image land = terrain(r, TerrainParams{});
+      REQUIRE(land.width == w);
+      REQUIRE(land.height == 1);
+      const Drawing d = place_tree(r, Placement{});
+      REQUIRE(d.layers.size() == p.variant.layers.size());
+    }
+  }
+}

@@ -24,10 +24,10 @@ std::vector<uint8_t> major_edges(const Image& image, const EdgeParams& p) {
   cv::Mat flat, grey, canny;
   // Mean shift on a reduced copy: the flattened regions, scaled back up, keep their
   // boundaries to a pixel or so, at a fraction of the cost.
-  if (p.scale < 1) {
+  const int sw = static_cast<int>(w * p.scale), sh = static_cast<int>(h * p.scale);
+  if (p.scale < 1 && sw >= 8 && sh >= 8) {
     cv::Mat small, small_flat;
-    cv::resize(rgb, small, cv::Size(), p.scale, p.scale, cv::INTER_AREA);
-    if (small.cols < 2 || small.rows < 2) small = rgb.clone();
+    cv::resize(rgb, small, cv::Size(sw, sh), 0, 0, cv::INTER_AREA);
     cv::pyrMeanShiftFiltering(small, small_flat, std::max(1.0, p.spatial_radius * small.cols / w), p.color_radius, 1);
     cv::resize(small_flat, flat, rgb.size(), 0, 0, cv::INTER_LINEAR);
   } else {

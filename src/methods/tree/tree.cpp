@@ -98,6 +98,9 @@ TreeResult tree_pixels(const Image& image, const TreeParams& p) {
 
   t0 = std::chrono::steady_clock::now();
   r.field.resize(n);
+  // Gradients below this are too flat to give an edge a direction: one grey level per
+  // px for the image; for the edge distance (slope 1 px/px but on its ridges) half its gain.
+  double gain = 1, min_gradient = 1;
   if (!p.variant.cross) {
     // BD's d: the input slightly blurred (§4.2), so single noisy pixels do not
     // decide which way a line runs.
@@ -113,8 +116,9 @@ TreeResult tree_pixels(const Image& image, const TreeParams& p) {
     float mx = 0;
     for (float v : r.edge_dt) mx = std::max(mx, v);
     // As displayed in the paper's Fig. 9(c, d): the distance scaled to grey levels.
-    const double gain = p.dt_gain > 0 ? p.dt_gain : (mx > 0 ? 255.0 / mx : 1.0);
+    gain = p.dt_gain > 0 ? p.dt_gain : (mx > 0 ? 255.0 / mx : 1.0);
     for (size_t i = 0; i < n; ++i) r.field[i] = static_cast<float>(gain * r.edge_dt[i]);
+    min_gradient = 0.5 * gain;
   }
   r.seconds_edges = since(t0);
 
@@ -130,6 +134,11 @@ TreeResult tree_pixels(const Image& image, const TreeParams& p) {
       if (r.edge_mask[i] && !taken[i]) r.points.push(float(i % w), float(i / w), r.field[i]);
   }
 
+  // The O(n²) reference is for comparison; past this it would run for many minutes.
+  constexpr size_t kMaxPrimPoints = 200'000;
+  if (p.reference_prim && r.points.size() > kMaxPrimPoints)
+    throw UserError("--reference-prim: " + std::to_string(r.points.size()) + " points is too many for the O(n^2) Prim (at most " +
+                    std::to_string(kMaxPrimPoints) + "); drop it to use the fast exact MST");
   t0 = std::chrono::steady_clock::now();
   for (Distance kind : p.variant.layers) {
     CostParams c;
@@ -137,7 +146,7 @@ TreeResult tree_pixels(const Image& image, const TreeParams& p) {
     c.alpha = kind == Distance::SIBD ? p.alpha_sibd : p.alpha_bd;
     c.h = p.h;
     TreeLayer layer{kind, p.reference_prim ? mst_prim_reference(r.points, c) : mst_exact(r.points, c), 0, 0};
-    layer.mean_abs_cos = mean_abs_cos_to_gradient(r.points, layer.edges, r.field, w, h, 1.0, &layer.measured);
+    layer.mean_abs_cos = mean_abs_cos_to_gradient(r.points, layer.edges, r.field, w, h, min_gradient, &layer.measured);
     r.layers.push_back(std::move(layer));
   }
   r.seconds_mst = since(t0);
