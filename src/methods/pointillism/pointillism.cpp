@@ -11,8 +11,8 @@
 namespace stipplot::pointillism {
 
 void Params::validate() const {
+  require_positive("--radius", radius_px);
   require_range("--radius", radius_px, 1e-3, 1000);
-  if (!(radius_px > 0)) throw UserError("--radius must be > 0");
   require_range("--alpha-ebauche", alpha_ebauche, 1e-3, 4);
   require_range("--alpha-strokes", alpha_strokes, 1e-3, 4);
   if (regions < 1 || regions > 100) throw UserError("--regions must be an integer in [1, 100], got " + std::to_string(regions));
