@@ -141,7 +141,7 @@ static void BM_PlanStipple(benchmark::State& state) {
   sp.b = 4;
   Placement place;
   place.page = {420, 420};
-  double stipple_s = 0, plan_s = 0, plan_cpu = 0, est_s = 0, estimate = 0;
+  double stipple_s = 0, plan_s = 0, plan_cpu = 0, est_s = 0, estimate = 0, planned = 0, greedy = 0;
   size_t dots = 0;
   PlanInfo info;
   for (auto _ : state) {
@@ -153,6 +153,10 @@ static void BM_PlanStipple(benchmark::State& state) {
     const Plan p = plan_drawing(d, PlanOptions{}, &info);
     plan_s = t1.wall_s();
     plan_cpu = t1.cpu_s();
+    planned = travel(p);
+    PlanOptions nn;
+    nn.optimize_seconds = 0;
+    greedy = travel(plan_drawing(d, nn));
     Timer t2;
     estimate = estimate_seconds(p, MotionParams{});
     est_s = t2.wall_s();
@@ -163,6 +167,7 @@ static void BM_PlanStipple(benchmark::State& state) {
   state.counters["plan_cpu_s"] = plan_cpu;
   state.counters["estimate_wall_s"] = est_s;
   state.counters["budget_hit"] = info.budget_hit;
+  state.counters["travel_planned_to_greedy_nn"] = planned / greedy;
   state.counters["plot_estimate_h"] = estimate / 3600;
   state.counters["plan_to_stipple_time"] = plan_s / stipple_s;
 }
