@@ -67,6 +67,7 @@ struct DeviceProfile {
 };
 
 // Parses and validates a profile file; throws UserError naming the file and key.
+// O(file size).
 DeviceProfile load_profile_file(const std::filesystem::path& path);
 // Parses profile text (for tests); `origin` names it in errors.
 DeviceProfile parse_profile(const std::string& toml_text, const std::string& origin);
@@ -75,6 +76,7 @@ DeviceProfile parse_profile(const std::string& toml_text, const std::string& ori
 // folder next to the executable, ../share/stipplot/profiles, the source tree's.
 std::vector<std::filesystem::path> profile_dirs();
 // Shipped profiles by name (each *.toml in the first directory holding it), sorted by name.
+// O(total size of the profile files).
 std::vector<DeviceProfile> list_profiles();
 // NAME (a shipped profile) or PATH (anything with a '/' or ending in .toml).
 DeviceProfile find_profile(const std::string& name_or_path);
