@@ -351,11 +351,21 @@ bool is_dwell_line(const std::string& text) {
 }
 }  // namespace
 
-ResumePlan plan_resume(const Job& job, size_t next) {
+ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device) {
   ResumePlan rp;
   const auto& L = job.lines;
   next = std::min(next, L.size());
   auto down_at = [&](size_t k) { return k == 0 ? false : L[k - 1].pen_down; };  // pen state before line k
+  bool in_place = device.known && next > 0 && device.down == down_at(next) &&
+                  std::abs(device.x - L[next - 1].x) < 0.01 && std::abs(device.y - L[next - 1].y) < 0.01;
+  if (in_place && job.dialect == Dialect::GCode) {
+    // Pen already as it was: only the modal state needs restoring.
+    ResumePlan full = plan_resume(job, next);
+    rp.next = next;
+    for (const auto& l : full.preamble)
+      if (l == "G21" || l == "G90" || l == "G20" || l == "G0" || l.rfind("G1 F", 0) == 0) rp.preamble.push_back(l);
+    return rp;
+  }
   // A resume point right after the pen went down, before it moved: for a dot, the
   // dot is finished by the lift (skip to after its pen-up); for a stroke, start the
   // stroke again from its pen-down line.

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -58,7 +59,14 @@ struct ResumePlan {
   size_t next = 0;                    // first job line to send after the preamble
   std::vector<std::string> preamble;  // lines to send first
 };
-ResumePlan plan_resume(const Job& job, size_t next);
+// What the device reports about its pen, when it can (grbl: spindle speed and Z from a
+// status report). If the pen is already where and as it should be (the device kept
+// running after the link dropped), nothing is lifted or moved.
+struct DevicePen {
+  bool known = false, down = false;
+  double x = 0, y = 0;
+};
+ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device = {});
 
 uint64_t fnv1a64(const std::string& data);
 
@@ -126,6 +134,7 @@ struct StreamResult {
   size_t lines_acked = 0;   // this session
   long last_acked = -1;     // job line index
   size_t errors_skipped = 0;
+  std::vector<std::pair<long, int>> errors;  // (job line, device error code) skipped or checked
   double seconds = 0;
   std::vector<std::string> warnings;
 };

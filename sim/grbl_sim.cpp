@@ -129,7 +129,8 @@ void GrblSim::on_byte(char c, double t) {
 
 void GrblSim::process(double t) {
   while (true) {
-    if (stall_until_ > t || need_reset_) return;
+    // A dwell holds grbl's protocol loop: nothing more is parsed until it ends.
+    if (stall_until_ > t || need_reset_ || dwell_until_ > 0) return;
     if (!line_) {
       auto eol = rx_.find_first_of("\r\n");
       if (eol == std::string::npos) return;

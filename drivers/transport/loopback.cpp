@@ -22,7 +22,7 @@ bool PipeEnd::write(std::string_view bytes) {
   return true;
 }
 
-long PipeEnd::read(char* buf, size_t n, Millis timeout) {
+long PipeEnd::read(char* buf, size_t n, std::chrono::microseconds timeout) {
   std::unique_lock lk(s_->m);
   auto& q = s_->q[side_];
   s_->cv.wait_for(lk, timeout, [&] { return !q.empty() || s_->closed; });

@@ -16,7 +16,7 @@ class PipeEnd {
   // Returns false if the pipe is closed.
   bool write(std::string_view bytes);
   // Bytes read (waiting up to timeout); 0 on timeout; -1 when closed and drained.
-  long read(char* buf, size_t n, Millis timeout);
+  long read(char* buf, size_t n, std::chrono::microseconds timeout);
   void close();
   bool closed() const;
   // Bytes sent from this end that the other end has not read yet.
