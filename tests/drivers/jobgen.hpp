@@ -56,7 +56,12 @@ inline std::string hpgl(const Strokes& strokes, double upm = 40) {
   auto pu = [&](double v) { return std::to_string(static_cast<long>(v * upm + 0.5)); };
   for (const auto& s : strokes) {
     h += "PU" + pu(s[0].x) + "," + pu(s[0].y) + ";PD";
-    for (size_t i = 1; i < s.size(); ++i) h += (i > 1 ? "," : "") + pu(s[i].x) + "," + pu(s[i].y);
+    for (size_t i = 1; i < s.size(); ++i) {
+      if (i > 1) h += ',';
+      h += pu(s[i].x);
+      h += ',';
+      h += pu(s[i].y);
+    }
     h += ";PU;";
   }
   h += "SP0;";
