@@ -5,5 +5,8 @@ namespace stipplot::cli {
 // Each adds one subcommand to the app.
 void register_stipple(CLI::App& app);
 void register_eval(CLI::App& app);
+void register_devices(CLI::App& app);
+void register_sim(CLI::App& app);
+void register_plot(CLI::App& app);
 void register_all(CLI::App& app);
 }  // namespace stipplot::cli
