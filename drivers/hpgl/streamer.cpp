@@ -217,7 +217,25 @@ StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<st
         ack_bytes(sent);
       }
       if (o_.status_queries) {
-        while (!(query('O') & 8)) std::this_thread::sleep_for(Millis(50));
+        // Wait until the plotter has drawn everything, or reports an error (then OE
+        // below names it), or stops consuming data (an incomplete instruction left
+        // after lost bytes would hold its buffer forever).
+        int last_free = -1;
+        auto since = clock::now();
+        for (;;) {
+          int st = query('O');
+          if (st & (8 | 32)) break;
+          int free = query('B');
+          if (free != last_free) {
+            last_free = free;
+            since = clock::now();
+          } else if (clock::now() - since > o_.not_ready_timeout) {
+            throw grbl::DeviceError("the plotter stopped taking data with " + std::to_string(buffer_ - free) +
+                                        " bytes in its buffer (bytes lost to a late XOFF?)",
+                                    res.last_acked, 0, false);
+          }
+          std::this_thread::sleep_for(Millis(50));
+        }
       }
     }
     check_status(true);

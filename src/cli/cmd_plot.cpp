@@ -144,6 +144,10 @@ void register_plot(CLI::App& app) {
         c.speedup = A.sim_speedup;
         c.link = {A.sim_baud, A.sim_latency_ms};
         c.xonxoff = A.handshake == "xonxoff";
+        // XOFF must arrive before the host overfills the buffer: leave room for the
+        // bytes in flight (latency and the host's reaction, scaled by the speedup).
+        c.xoff_free = 384;
+        c.xon_free = 640;
         simdev = std::make_unique<sim::HpglSim>(c);
       }
       port_name = simdev->open_pty();
