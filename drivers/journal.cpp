@@ -92,11 +92,12 @@ std::vector<Word> gcode_words(const std::string& line) {
   return w;
 }
 
-bool gcode_pen_down(const GcodeState& st, const GcodePenRule& rule) {
-  return (st.spindle && st.s > 0) || st.z < rule.z_down_below;
-}
-
 }  // namespace
+
+bool gcode_pen_down(bool spindle_on, double s, double z, const GcodePenRule& rule) {
+  bool servo_down = spindle_on && s > 0 && !(rule.servo_up_s > 0 && std::abs(s - rule.servo_up_s) < 1e-9);
+  return servo_down || z < rule.z_down_below;
+}
 
 Job parse_gcode_job(const std::string& text, const GcodePenRule& rule) {
   Job job;
@@ -153,7 +154,7 @@ Job parse_gcode_job(const std::string& text, const GcodePenRule& rule) {
     if (is_dwell) jl.est_s = dwell;
     jl.x = st.x;
     jl.y = st.y;
-    jl.pen_down = gcode_pen_down(st, rule);
+    jl.pen_down = gcode_pen_down(st.spindle, st.s, st.z, rule);
     job.est_total_s += jl.est_s;
     job.lines.push_back(std::move(jl));
   }

@@ -35,10 +35,13 @@ struct Job {
 };
 
 // How a G-code job puts its pen down: servo or laser (M3/M4 with S > 0 down, M5 or S0
-// up) or a Z axis (Z below `z_down_below` down).
+// up; a servo whose "up" is M3 S<servo_up_s> is up at that S) or a Z axis (Z below
+// `z_down_below` down).
 struct GcodePenRule {
   double z_down_below = 0;
+  double servo_up_s = 0;  // 0: no "up" S value (up is M5 or S0)
 };
+bool gcode_pen_down(bool spindle_on, double s, double z, const GcodePenRule& rule);
 
 // Splits G-code into lines (comments and blank lines dropped) and tracks pen state and
 // position per line. O(text length).

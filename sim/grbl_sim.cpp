@@ -61,7 +61,9 @@ GrblSim::GrblSim(const GrblSimConfig& cfg) : SimDevice(cfg.speedup, cfg.link, cf
 
 GrblSim::~GrblSim() { stop(); }
 
-bool GrblSim::pen_down_state() const { return (spindle_on_ && spindle_s_ > 0 && !spindle_stopped_in_hold_) || mz_ < 0; }
+bool GrblSim::pen_down_state() const {
+  return io::gcode_pen_down(spindle_on_ && !spindle_stopped_in_hold_, spindle_s_, mz_, cfg_.pen);
+}
 
 void GrblSim::set_pen(bool down) {
   std::lock_guard lk(m_);

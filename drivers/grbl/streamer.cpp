@@ -91,7 +91,7 @@ DevicePen Streamer::device_pen(const GcodePenRule& rule) {
   Status s = query_status(Millis(3000));
   DevicePen p;
   p.known = true;
-  p.down = s.spindle > 0 || s.z < rule.z_down_below;
+  p.down = gcode_pen_down(s.spindle > 0, s.spindle, s.z, rule);
   p.x = s.x;
   p.y = s.y;
   return p;

@@ -210,3 +210,16 @@ TEST_CASE("resume plans: lift, travel, restore the pen; dots are not touched twi
   REQUIRE(segs.size() == 3);
   CHECK(segs[2] == Segment{50, 50, 50, 50, 1});
 }
+
+TEST_CASE("pen rule: a servo whose up position is M3 S<up>", "[drivers][journal]") {
+  GcodePenRule rule;
+  rule.servo_up_s = 90;
+  Job j = parse_gcode_job("M3 S90\nG0 X1\nM3 S30\nG1 X2 F100\nM3 S90\n", rule);
+  REQUIRE(j.lines.size() == 5);
+  CHECK_FALSE(j.lines[0].pen_down);
+  CHECK(j.lines[2].pen_down);
+  CHECK_FALSE(j.lines[4].pen_down);
+  auto segs = job_segments(j);
+  REQUIRE(segs.size() == 1);
+  CHECK(segs[0] == Segment{1, 0, 2, 0, 1});
+}
