@@ -36,6 +36,7 @@ extern "C" void on_plot_sigint(int) { g_interrupts.fetch_add(1); }
 
 struct PlotArgs {
   std::string input, profile, port, resume, job_out;
+  bool flow_given = false, handshake_given = false, rx_buffer_given = false;
   bool sim = false, check = false, json = false, quiet = false, skip_errors = false, unlock = false, newline = false;
   std::string stream = "counting", handshake = "escb", flow = "none";
   int baud = 0, rx_buffer = 128;
@@ -81,11 +82,11 @@ void register_plot(CLI::App& app) {
   cmd->add_flag("--check", a->check, "grbl: validate every line in check mode ($C) before the pen moves");
   cmd->add_option("--stream", a->stream, "grbl streaming: counting (character counting) | wait (send-and-wait)")
       ->capture_default_str();
-  cmd->add_option("--rx-buffer", a->rx_buffer, "grbl receive buffer bytes")->capture_default_str();
-  cmd->add_option("--handshake", a->handshake, "HPGL: escb (poll ESC.B) | xonxoff | hardware")->capture_default_str();
+  auto* rx = cmd->add_option("--rx-buffer", a->rx_buffer, "grbl receive buffer bytes (default: profile, 128)");
+  auto* hs = cmd->add_option("--handshake", a->handshake, "HPGL: escb (poll ESC.B) | xonxoff | hardware (default: profile, escb)");
   cmd->add_flag("--newline", a->newline, "HPGL: end each instruction with a newline");
   cmd->add_option("--baud", a->baud, "Serial baud rate (default: 115200 grbl, 9600 HPGL)");
-  cmd->add_option("--flow", a->flow, "Serial flow control: none | xonxoff | rtscts")->capture_default_str();
+  auto* fl = cmd->add_option("--flow", a->flow, "Serial flow control: none | xonxoff | rtscts (default: profile, none)");
   cmd->add_flag("--skip-errors", a->skip_errors, "grbl error:N: warn and continue instead of stopping");
   cmd->add_flag("--unlock", a->unlock, "grbl: send $X if it starts in ALARM");
   cmd->add_flag("--json", a->json, "One-line JSON summary on stdout; JSON progress lines on stderr");
@@ -96,9 +97,12 @@ void register_plot(CLI::App& app) {
   cmd->add_option("--sim-latency-ms", a->sim_latency_ms, "Simulated round-trip latency")->capture_default_str()->group(g);
   cmd->add_option("--sim-out", a->sim_out, "Write what the simulator drew to PREFIX.png and PREFIX.svg")->group(g);
   cmd->add_option("--page", a->page, "Page for the simulator's rendering")->capture_default_str()->group(g);
-  cmd->callback([a] {
+  cmd->callback([a, rx, hs, fl] {
     auto t0 = std::chrono::steady_clock::now();
     PlotArgs& A = *a;
+    A.rx_buffer_given = rx->count() > 0;
+    A.handshake_given = hs->count() > 0;
+    A.flow_given = fl->count() > 0;
     if (A.input.empty() && A.resume.empty()) throw UserError("give a job to plot, or --resume JOB");
     if (A.sim && !A.port.empty()) throw UserError("--sim and --port exclude each other");
     require_positive("--sim-speedup", A.sim_speedup);
@@ -120,7 +124,8 @@ void register_plot(CLI::App& app) {
     std::string hash = hex(io::fnv1a64(text));
     if (resuming && resume_state.header.job_hash != hash)
       throw UserError("job " + pj.path + " changed since it was started (its journal belongs to another version)");
-    io::Job job = pj.dialect == io::Dialect::Hpgl ? io::parse_hpgl_job(text) : io::parse_gcode_job(text);
+    PlotDevice dev = plot_device(pj.profile.empty() ? A.profile : pj.profile);
+    io::Job job = pj.dialect == io::Dialect::Hpgl ? io::parse_hpgl_job(text) : io::parse_gcode_job(text, dev.pen);
     if (job.lines.empty()) throw UserError("job " + pj.path + " has no lines to plot");
     bool grbl = pj.dialect == io::Dialect::GCode;
     auto log = [&A](const std::string& s) {
@@ -128,19 +133,30 @@ void register_plot(CLI::App& app) {
     };
     // The device.
     io::SerialSettings ser;
-    ser.baud = A.baud > 0 ? A.baud : grbl ? 115200 : 9600;
-    ser.flow = io::parse_flow_control(A.flow);
+    ser.baud = A.baud > 0 ? A.baud : dev.baud > 0 ? dev.baud : grbl ? 115200 : 9600;
+    ser.flow = io::parse_flow_control(A.flow_given ? A.flow : dev.flow);
+    if (!A.handshake_given) A.handshake = dev.handshake;
+    if (!A.rx_buffer_given && grbl) A.rx_buffer = dev.rx_buffer;
+    A.newline = A.newline || dev.newline;
     std::unique_ptr<sim::SimDevice> simdev;
     std::unique_ptr<io::Transport> port;
     std::string port_name;
     if (A.sim) {
       if (grbl) {
         sim::GrblSimConfig c;
+        c.motion = dev.motion;
+        c.pen = dev.pen;
+        c.travel_x = dev.travel_x;
+        c.travel_y = dev.travel_y;
+        c.rx_buffer = A.rx_buffer;
         c.speedup = A.sim_speedup;
         c.link = {A.sim_baud, A.sim_latency_ms};
         simdev = std::make_unique<sim::GrblSim>(c);
       } else {
         sim::HpglSimConfig c;
+        c.motion = dev.motion;
+        c.units_per_mm = dev.units_per_mm;
+        if (dev.rx_buffer >= 64) c.buffer_bytes = dev.rx_buffer;
         c.speedup = A.sim_speedup;
         c.link = {A.sim_baud, A.sim_latency_ms};
         c.xonxoff = A.handshake == "xonxoff";
@@ -228,6 +244,7 @@ void register_plot(CLI::App& app) {
           std::getline(std::cin, answer);
           return answer.empty() || (answer[0] != 'a' && answer[0] != 'A');
         };
+        o.planner_blocks = dev.motion.lookahead_blocks;
         io::grbl::Streamer st(*port, o);
         st.connect();
         for (const auto& w : st.check_settings(st.read_settings(), io::grbl::expectations_for(job))) log("warning: " + w);
@@ -243,7 +260,7 @@ void register_plot(CLI::App& app) {
           log("check mode: all " + std::to_string(job.lines.size()) + " lines accepted");
         }
         io::ResumePlan rp{start, {}};
-        if (resuming) rp = io::plan_resume(job, start, st.device_pen());
+        if (resuming) rp = io::plan_resume(job, start, st.device_pen(dev.pen));
         res = st.stream(job, rp.next, rp.preamble, journal.get(), progress, &controls);
       } else {
         io::hpgl::Options o;
@@ -284,7 +301,7 @@ void register_plot(CLI::App& app) {
       Page page;
       page.width_mm = ps.width_mm;
       page.height_mm = ps.height_mm;
-      double upm = grbl ? 1 : 40, flip = grbl ? 0 : ps.height_mm;
+      double upm = grbl ? 1 : dev.units_per_mm, flip = grbl ? 0 : ps.height_mm;
       sim::write_record_png(rec, page, upm, prefix + ".png", flip);
       sim::write_record_svg(rec, page, upm, prefix + ".svg", flip);
       s["sim_png"] = prefix + ".png";

@@ -24,6 +24,11 @@ io::Dialect dialect_of(const std::string& path) {
   return (e == ".hpgl" || e == ".plt" || e == ".hpg" || e == ".hgl") ? io::Dialect::Hpgl : io::Dialect::GCode;
 }
 
+PlotDevice plot_device(const std::string& profile) {
+  if (profile.empty()) return {};
+  throw UserError("--profile needs the device profiles of the planner/writers issue; without it, give --baud/--flow");
+}
+
 PreparedJob prepare_job(const PlotJobRequest& r) {
   if (is_job_file(r.input)) return {r.input, dialect_of(r.input), r.profile};
   throw UserError("plotting " + r.input +

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "drivers/journal.hpp"
+#include "plan/plan.hpp"
 
 namespace stipplot::cli {
 
@@ -16,6 +17,21 @@ struct PreparedJob {
   io::Dialect dialect = io::Dialect::GCode;
   std::string profile;
 };
+
+// What a device profile tells the driver and the simulator (defaults without one).
+struct PlotDevice {
+  std::string profile;          // name, empty = none
+  int baud = 0;                 // 0: protocol default
+  std::string flow = "none";    // none | xonxoff | rtscts
+  int rx_buffer = 128;          // grbl RX buffer / HPGL buffer (0 = ask the plotter)
+  std::string handshake = "escb";
+  bool newline = false;
+  io::GcodePenRule pen;
+  MotionParams motion;
+  double travel_x = 300, travel_y = 300;
+  double units_per_mm = 40;     // HPGL
+};
+PlotDevice plot_device(const std::string& profile);
 
 bool is_job_file(const std::string& path);
 io::Dialect dialect_of(const std::string& path);
