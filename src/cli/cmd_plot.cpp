@@ -136,7 +136,7 @@ void register_plot(CLI::App& app) {
     ser.baud = A.baud > 0 ? A.baud : dev.baud > 0 ? dev.baud : grbl ? 115200 : 9600;
     ser.flow = io::parse_flow_control(A.flow_given ? A.flow : dev.flow);
     if (!A.handshake_given) A.handshake = dev.handshake;
-    if (!A.rx_buffer_given && grbl) A.rx_buffer = dev.rx_buffer;
+    if (!A.rx_buffer_given && grbl && dev.rx_buffer > 0) A.rx_buffer = dev.rx_buffer;
     A.newline = A.newline || dev.newline;
     std::unique_ptr<sim::SimDevice> simdev;
     std::unique_ptr<io::Transport> port;
@@ -157,13 +157,13 @@ void register_plot(CLI::App& app) {
         c.motion = dev.motion;
         c.units_per_mm = dev.units_per_mm;
         if (dev.rx_buffer >= 64) c.buffer_bytes = dev.rx_buffer;
+        c.xoff_free = c.buffer_bytes * 3 / 8;
+        c.xon_free = c.buffer_bytes * 5 / 8;
         c.speedup = A.sim_speedup;
         c.link = {A.sim_baud, A.sim_latency_ms};
         c.xonxoff = A.handshake == "xonxoff";
         // XOFF must arrive before the host overfills the buffer: leave room for the
         // bytes in flight (latency and the host's reaction, scaled by the speedup).
-        c.xoff_free = 384;
-        c.xon_free = 640;
         simdev = std::make_unique<sim::HpglSim>(c);
       }
       port_name = simdev->open_pty();

@@ -23,7 +23,7 @@ struct PlotDevice {
   std::string profile;          // name, empty = none
   int baud = 0;                 // 0: protocol default
   std::string flow = "none";    // none | xonxoff | rtscts
-  int rx_buffer = 128;          // grbl RX buffer / HPGL buffer (0 = ask the plotter)
+  int rx_buffer = 0;            // grbl RX buffer / HPGL buffer; 0 = default (grbl 128; HPGL: ask)
   std::string handshake = "escb";
   bool newline = false;
   io::GcodePenRule pen;
