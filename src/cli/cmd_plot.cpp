@@ -75,7 +75,8 @@ void register_plot(CLI::App& app) {
       "          stipplot plot job.gcode --port /dev/ttyUSB0 --check\n"
       "          stipplot plot --resume job.gcode --port /dev/ttyUSB0");
   cmd->add_option("input", a->input, "Job file (.gcode, .hpgl)");
-  cmd->add_option("--profile", a->profile, "Device profile (name or PATH)");
+  cmd->add_option("--profile", a->profile, "Device profile (name or PATH): serial settings, handshake, pen, motion");
+  cmd->add_option("--job", a->job_out, "Where to write the job planned from an SVG (default: IN with .gcode/.hpgl)");
   cmd->add_option("--port", a->port, "Serial port (/dev/ttyUSB0, COM3), usb:VID:PID, or file:PATH");
   cmd->add_flag("--sim", a->sim, "Plot on the in-process simulated plotter");
   cmd->add_option("--resume", a->resume, "Continue job JOB from its journal (JOB.journal)");
