@@ -119,7 +119,7 @@ void Streamer::connect() {
   Status st;
   if (!alive) {
     try {
-      st = query_status(Millis(1500));
+      st = query_status(o_.probe_timeout);
       alive = true;
     } catch (const TransportError& e) {
       if (e.kind() != TransportError::Kind::Timeout) throw;
@@ -433,7 +433,7 @@ StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<st
                      (s.bytes_free < 0 || s.bytes_free == o_.rx_buffer);
         if (empty) {
           if (idle_polls++ == 0) idle_first = clock::now();
-          if (!inflight.empty() && idle_polls >= 3 && clock::now() - idle_first > Millis(1000)) {
+          if (!inflight.empty() && idle_polls >= 3 && clock::now() - idle_first > o_.lost_reply_after) {
             res.warnings.push_back("grbl went idle without acknowledging " + std::to_string(inflight.size()) +
                                    " line(s): a reply was lost; counting them as done");
             note(res.warnings.back());

@@ -24,6 +24,8 @@ struct Options {
   double poll_hz = 5;                  // grbl's docs: at most 5-10 Hz
   Millis banner_timeout{10000};
   Millis silence_timeout{30000};       // no byte at all for this long: the device is gone
+  Millis probe_timeout{1500};          // connect: wait this long for a status report before a reset
+  Millis lost_reply_after{1000};       // idle with empty buffers this long: unacknowledged lines are done
   bool skip_errors = false;            // error:N: warn and go on instead of stopping
   bool unlock = false;                 // $X if grbl starts in ALARM
   bool lift_on_pause = true;           // spindle-stop override in a hold (servo pens)

@@ -186,7 +186,9 @@ TEST_CASE("lost and garbled replies and a stall are survived without losing line
     if (kind == 1) f.corrupt_reply = 10;
     if (kind == 2) f.stall_line = 10, f.stall_ms = 3000;  // device time: 75 ms real at 40x
     Run r = open_pty(fast_config(f));
-    grbl::Streamer st(*r.port, {});
+    grbl::Options o;
+    o.lost_reply_after = Millis(300);
+    grbl::Streamer st(*r.port, o);
     st.connect();
     StreamResult res = st.stream(job, 0, {}, nullptr);
     CHECK(res.completed);
@@ -273,6 +275,7 @@ TEST_CASE("no device answering: a clear timeout naming the port", "[drivers][grb
   PosixSerial port(silent.name(), {});
   grbl::Options o;
   o.banner_timeout = Millis(800);
+  o.probe_timeout = Millis(300);
   grbl::Streamer st(port, o);
   CHECK_THROWS_WITH(st.connect(), Catch::Contains("no answer from grbl") && Catch::Contains(silent.name()));
 }
