@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -32,7 +33,9 @@ uint64_t fnv1a64(const std::string& data) {
 namespace {
 
 struct GcodeState {
-  double x = 0, y = 0, z = 0;
+  // Z is unknown until the job sets it; until then the pen counts as up (a Z plotter
+  // whose "down" height is 0 must not read as down before its first Z move).
+  double x = 0, y = 0, z = std::numeric_limits<double>::infinity();
   double scale = 1;  // G20: 25.4
   bool absolute = true;
   int motion = 0;  // 0 or 1
@@ -138,12 +141,16 @@ Job parse_gcode_job(const std::string& text, const GcodePenRule& rule) {
         case 'P': dwell = w.value; break;
         case 'X': nx = st.absolute ? w.value * st.scale : st.x + w.value * st.scale; axis = true; break;
         case 'Y': ny = st.absolute ? w.value * st.scale : st.y + w.value * st.scale; axis = true; break;
-        case 'Z': nz = st.absolute ? w.value * st.scale : st.z + w.value * st.scale; axis = true; break;
+        case 'Z':
+          nz = st.absolute || !std::isfinite(st.z) ? w.value * st.scale : st.z + w.value * st.scale;
+          axis = true;
+          break;
         default: break;
       }
     }
     if (axis && !is_dwell) {
-      double d = std::hypot(nx - st.x, ny - st.y, nz - st.z);
+      double dz = std::isfinite(st.z) && std::isfinite(nz) ? nz - st.z : 0;
+      double d = std::hypot(nx - st.x, ny - st.y, dz);
       double v = st.motion == 0 || st.feed <= 0 ? rapid_mm_s : st.feed / 60.0;
       jl.est_s = d / v;
       jl.motion = true;

@@ -223,3 +223,15 @@ TEST_CASE("pen rule: a servo whose up position is M3 S<up>", "[drivers][journal]
   REQUIRE(segs.size() == 1);
   CHECK(segs[0] == Segment{1, 0, 2, 0, 1});
 }
+
+TEST_CASE("Z pen whose down height is 0: up until the job first sets Z", "[drivers][journal]") {
+  GcodePenRule rule;
+  rule.z_down_below = 1.5;  // up 3, down 0
+  Job j = parse_gcode_job("G21\nG90\nG0 Z3\nG0 X10 Y-5\nG1 Z0 F600\nG1 X20 F1200\nG0 Z3\n", rule);
+  CHECK_FALSE(j.lines[0].pen_down);
+  CHECK(j.lines[4].pen_down);
+  auto segs = job_segments(j);
+  REQUIRE(segs.size() == 1);
+  CHECK(segs[0] == Segment{10, -5, 20, -5, 1});
+  CHECK(std::isfinite(j.est_total_s));
+}
