@@ -13,6 +13,11 @@ namespace stipplot::sim {
 // become dots of the pen width. `flip_y_mm` > 0 mirrors y (HPGL's origin is bottom-left).
 Drawing record_to_drawing(const std::vector<io::Segment>& segs, const Page& page, double units_per_mm,
                           double pen_width_mm = 0.3, double flip_y_mm = 0);
+// The page fitted around what was drawn (10 mm margin), so records of machines with
+// negative coordinates or landscape pages render whole.
+Drawing record_to_fitted_drawing(const std::vector<io::Segment>& segs, double units_per_mm, bool flip_y,
+                                 double pen_width_mm = 0.3);
+void write_drawing_png_svg(const Drawing& d, const std::string& png, const std::string& svg);
 void write_record_png(const std::vector<io::Segment>& segs, const Page& page, double units_per_mm,
                       const std::string& path, double flip_y_mm = 0);
 void write_record_svg(const std::vector<io::Segment>& segs, const Page& page, double units_per_mm,

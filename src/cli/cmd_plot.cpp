@@ -36,7 +36,7 @@ extern "C" void on_plot_sigint(int) { g_interrupts.fetch_add(1); }
 
 struct PlotArgs {
   std::string input, profile, port, resume, job_out;
-  bool flow_given = false, handshake_given = false, rx_buffer_given = false;
+  bool page_given = false, flow_given = false, handshake_given = false, rx_buffer_given = false;
   bool sim = false, check = false, json = false, quiet = false, skip_errors = false, unlock = false, newline = false;
   std::string stream = "counting", handshake = "escb", flow = "none";
   int baud = 0, rx_buffer = 128;
@@ -97,13 +97,14 @@ void register_plot(CLI::App& app) {
   cmd->add_option("--sim-baud", a->sim_baud, "Simulated wire baud rate")->capture_default_str()->group(g);
   cmd->add_option("--sim-latency-ms", a->sim_latency_ms, "Simulated round-trip latency")->capture_default_str()->group(g);
   cmd->add_option("--sim-out", a->sim_out, "Write what the simulator drew to PREFIX.png and PREFIX.svg")->group(g);
-  cmd->add_option("--page", a->page, "Page for the simulator's rendering")->capture_default_str()->group(g);
-  cmd->callback([a, rx, hs, fl] {
+  auto* pg = cmd->add_option("--page", a->page, "Page for the simulator's rendering (default: fitted to what was drawn)")->group(g);
+  cmd->callback([a, rx, hs, fl, pg] {
     auto t0 = std::chrono::steady_clock::now();
     PlotArgs& A = *a;
     A.rx_buffer_given = rx->count() > 0;
     A.handshake_given = hs->count() > 0;
     A.flow_given = fl->count() > 0;
+    A.page_given = pg->count() > 0;
     if (A.input.empty() && A.resume.empty()) throw UserError("give a job to plot, or --resume JOB");
     if (A.sim && !A.port.empty()) throw UserError("--sim and --port exclude each other");
     require_positive("--sim-speedup", A.sim_speedup);
@@ -187,7 +188,7 @@ void register_plot(CLI::App& app) {
       bar.set_eta_hint(p.eta_s);
       bar.set_suffix(std::to_string(p.lines_acked) + "/" + std::to_string(p.lines_total) + " lines " + p.state);
       bar.update(p.lines_acked);
-      if (A.json && std::chrono::steady_clock::now() - last_json > std::chrono::seconds(1)) {
+      if (A.json && !A.quiet && std::chrono::steady_clock::now() - last_json > std::chrono::seconds(1)) {
         last_json = std::chrono::steady_clock::now();
         nlohmann::json j = {{"progress", p.lines_total ? double(p.lines_acked) / double(p.lines_total) : 1.0},
                             {"lines_acked", p.lines_acked}, {"lines_sent", p.lines_sent}, {"lines", p.lines_total},
@@ -298,13 +299,18 @@ void register_plot(CLI::App& app) {
       s["sim_starved_pct"] = 100 * st.starved_share();
       if (!resuming) s["sim_exact"] = rec.size() == planned.size() && std::is_permutation(rec.begin(), rec.end(), planned.begin());
       std::string prefix = A.sim_out.empty() ? pj.path + ".sim" : A.sim_out;
-      PageSpec ps = parse_page(A.page);
-      Page page;
-      page.width_mm = ps.width_mm;
-      page.height_mm = ps.height_mm;
-      double upm = grbl ? 1 : dev.units_per_mm, flip = grbl ? 0 : ps.height_mm;
-      sim::write_record_png(rec, page, upm, prefix + ".png", flip);
-      sim::write_record_svg(rec, page, upm, prefix + ".svg", flip);
+      double upm = grbl ? 1 : dev.units_per_mm;
+      Drawing drawn;
+      if (A.page_given) {
+        PageSpec ps = parse_page(A.page);
+        Page page;
+        page.width_mm = ps.width_mm;
+        page.height_mm = ps.height_mm;
+        drawn = sim::record_to_drawing(rec, page, upm, 0.3, grbl ? 0 : ps.height_mm);
+      } else {
+        drawn = sim::record_to_fitted_drawing(rec, upm, !grbl);  // HPGL's y grows upwards
+      }
+      sim::write_drawing_png_svg(drawn, prefix + ".png", prefix + ".svg");
       s["sim_png"] = prefix + ".png";
       s["sim_svg"] = prefix + ".svg";
     }
