@@ -158,10 +158,17 @@ StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<st
       }
     }
     if (st & 32 || final) {
+      // OE goes through the plotter's buffer: if that is stuck (lost bytes left an
+      // unfinished instruction), OE would never be answered.
+      if ((st & 32) && !(st & 8) && query('B') < buffer_ && final)
+        throw grbl::DeviceError("the plotter reports an error and its buffer holds an unfinished instruction "
+                                "(bytes lost to a late XOFF or no handshake?); the job is incomplete",
+                                res.last_acked, 7, false);
       t_.write(o_.newline ? "OE;\n" : "OE;");
       std::string r;
-      int code = 0;
-      if (read_reply(r, Millis(60000))) code = std::atoi(r.c_str());
+      if (!read_reply(r, Millis(30000)))
+        throw TransportError(TransportError::Kind::Timeout, "the plotter on " + t_.describe() + " does not answer OE");
+      int code = std::atoi(r.c_str());
       if (code != 0)
         throw grbl::DeviceError("the plotter reports HP-GL error " + std::to_string(code) + " (" + error_meaning(code) +
                                     ") after line " + std::to_string(res.last_acked + 1),

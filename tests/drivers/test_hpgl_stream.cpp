@@ -59,12 +59,14 @@ TEST_CASE("ESC.B polling never overfills the buffer and draws exactly the job", 
 TEST_CASE("XON/XOFF at 115200 baud with paced writes: no overflow, exact drawing", "[drivers][hpgl][e2e]") {
   sim::HpglSimConfig c = fast();
   c.xonxoff = true;
-  c.speedup = 20;
-  c.link.baud = 115200;  // in device time, which runs 20x: the host paces to match
+  c.speedup = 8;
+  c.xoff_free = 384;  // room for what is in flight when XOFF leaves (the host's reaction is scaled 8x)
+  c.xon_free = 640;
+  c.link.baud = 115200;  // in device time, which runs 8x: the host paces to match
   sim::HpglSim sim(c);
   PosixSerial port(sim.open_pty(), {});
-  port.pace(115200 / 10.0 * 20);
-  Job job = hpgl_job(22, 25);
+  port.pace(115200 / 10.0 * 8);
+  Job job = hpgl_job(22, 12);
   hpgl::Options o;
   o.handshake = hpgl::Handshake::XonXoff;
   o.newline = true;
@@ -91,6 +93,14 @@ TEST_CASE("without any handshake a fast host overfills the plotter (the simulato
   st.stream(job, 0, {}, nullptr);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   CHECK(sim.stats().rx_overflow > 0);
+  // With status queries the streamer notices and says the job is incomplete.
+  sim::HpglSim sim2(c);
+  PosixSerial port2(sim2.open_pty(), {});
+  o.status_queries = true;
+  hpgl::Streamer st2(port2, o);
+  st2.connect();
+  CHECK_THROWS_AS(st2.stream(job, 0, {}, nullptr), grbl::DeviceError);
+  CHECK(sim2.stats().rx_overflow > 0);
 }
 
 TEST_CASE("HPGL faults: lost and garbled replies are asked again; errors and not-ready stop", "[drivers][hpgl][faults]") {
