@@ -10,6 +10,9 @@ void register_all(CLI::App& app) {
   register_pointillism(app);
   register_profiles(app);
   register_export(app);
+  register_devices(app);
+  register_sim(app);
+  register_plot(app);
 }
 
 }  // namespace stipplot::cli

@@ -10,5 +10,8 @@ void register_sketch(CLI::App& app);
 void register_pointillism(CLI::App& app);
 void register_profiles(CLI::App& app);
 void register_export(CLI::App& app);
+void register_devices(CLI::App& app);
+void register_sim(CLI::App& app);
+void register_plot(CLI::App& app);
 void register_all(CLI::App& app);
 }  // namespace stipplot::cli

@@ -1,0 +1,135 @@
+#pragma once
+// What the simulated plotters share: a serving thread on a link, a model of the wire
+// (byte time at the baud rate, 10 bits a byte, and a round-trip latency), a clock
+// that runs `speedup` times faster than real time (everything, wire included, is in
+// device time so the proportions stay those of the real machine), fault injection,
+// and the record of what the pen drew.
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <limits>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "drivers/journal.hpp"
+#include "sim/link.hpp"
+
+namespace stipplot::sim {
+
+using io::Segment;
+
+struct LinkModel {
+  double baud = 0;          // 0: bytes take no time on the wire
+  double latency_ms = 0;    // round trip (USB-serial adapters: a few ms)
+};
+
+// Fault injection. Lines are counted from 1 over the protocol's lines (G-code lines,
+// not '$' commands, for grbl; instructions for HPGL); replies over replies.
+struct Faults {
+  long drop_reply = -1;      // grbl: the reply to line K is never sent; HPGL: the K-th query reply
+  long corrupt_reply = -1;   // ... is garbled
+  long stall_line = -1;      // line K holds the machine for stall_ms (device time)
+  double stall_ms = 0;
+  long disconnect_after_bytes = -1;  // the link goes down after N received bytes
+  long error_line = -1;      // line K is rejected (grbl error:N, HPGL error 1)
+  int error_code = 20;
+  long alarm_line = -1;      // line K raises an alarm (grbl ALARM:1, HPGL not-ready)
+};
+
+struct SimStats {
+  double busy_start = -1, busy_end = -1;  // device seconds: first motion start, last motion end
+  double starved_s = 0;   // machine idle with nothing to do between those (waiting for data)
+  size_t blocks = 0, lines = 0, errors = 0, alarms = 0;
+  size_t rx_overflow = 0;  // bytes that arrived with the receive buffer full (lost)
+  size_t bytes_in = 0;
+  double plot_time() const { return busy_start < 0 ? 0 : busy_end - busy_start; }
+  double starved_share() const { return plot_time() > 0 ? starved_s / plot_time() : 0; }
+};
+
+// Pen-down moves and touches, in the order drawn (same rules as io::job_segments).
+class PenRecorder {
+ public:
+  void pen(bool down);
+  void move(double x, double y);
+  void set_pen_number(int n) { pen_no_ = n; }
+  bool down() const { return down_; }
+  double x() const { return x_; }
+  double y() const { return y_; }
+  std::vector<Segment> segments;
+
+ private:
+  bool down_ = false, moved_ = false;
+  double x_ = 0, y_ = 0;
+  int pen_no_ = 1;
+};
+
+class SimDevice {
+ public:
+  SimDevice(double speedup, LinkModel link, Faults faults);
+  virtual ~SimDevice();
+  SimDevice(const SimDevice&) = delete;
+  SimDevice& operator=(const SimDevice&) = delete;
+
+  // Serves on this link from a thread (replacing a link that went down).
+  void attach(std::unique_ptr<SimLink> link);
+  // In-process convenience: a pipe, the simulator at one end; returns the other end.
+  std::unique_ptr<io::Transport> connect_loopback();
+  // A pty; returns its path.
+  std::string open_pty();
+  void stop();
+  // False after an injected disconnect, until attach() is called again.
+  bool connected() const { return connected_.load(); }
+  // Waits (real time) until the machine has nothing left to do or `seconds` passed.
+  bool wait_idle(double seconds);
+  std::vector<Segment> record() const;
+  SimStats stats() const;
+  std::string link_name() const;
+  double device_time() const;
+
+ protected:
+  // All hooks run on the serving thread with the device clock at `t` (seconds).
+  virtual void on_connect(double t) = 0;
+  virtual void on_byte(char c, double t) = 0;
+  virtual void advance(double t) = 0;      // run the machine up to t
+  virtual double next_event() const = 0;   // device time of the next internal event
+  virtual void on_disconnect(double t) = 0;
+  virtual bool idle() const = 0;
+  void send(const std::string& s, double t);
+  // Starvation bookkeeping: the machine starts / stops doing something.
+  void mark_busy(double t);
+  void mark_idle(double t);
+  void mark_paused();  // a hold or pause: idle time then is not starvation
+
+  mutable std::mutex m_;  // guards rec_ and stats_ against readers on other threads
+  PenRecorder rec_;
+  SimStats stats_;
+  Faults faults_;
+  LinkModel linkm_;
+
+ private:
+  void serve();
+  void disconnect(double t);
+  double speedup_;
+  std::chrono::steady_clock::time_point t0_;
+  std::unique_ptr<SimLink> link_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false}, connected_{false};
+  std::mutex link_m_;
+  std::condition_variable link_cv_;
+  bool new_link_ = false;
+  struct Timed {
+    char c;
+    double t;
+  };
+  std::deque<Timed> wire_in_;
+  std::deque<std::pair<double, std::string>> wire_out_;
+  double last_in_ = 0, last_out_ = 0;
+  double idle_since_ = -1;
+  bool ever_busy_ = false;
+  std::atomic<bool> idle_flag_{true};
+};
+
+}  // namespace stipplot::sim

@@ -1,0 +1,275 @@
+#include "sim/hpgl_sim.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+
+namespace stipplot::sim {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Start-stop move time (these plotters do little look-ahead).
+double move_time(double len, double v, double a) {
+  if (len <= 0) return 0;
+  double d_acc = v * v / a;  // accelerate and decelerate
+  if (d_acc <= len) return 2 * v / a + (len - d_acc) / v;
+  return 2 * std::sqrt(len / a);
+}
+bool is_sep(char c) { return c == ';' || c == '\n' || c == '\r' || c == ' ' || c == '\t' || c == ','; }
+}  // namespace
+
+HpglSim::HpglSim(const HpglSimConfig& cfg)
+    : SimDevice(cfg.speedup, cfg.link, cfg.faults), cfg_(cfg), vs_mm_s_(cfg.motion.speed_down_mm_s) {
+  if (cfg.buffer_bytes < 64) throw UserError("simulated HPGL plotter: buffer must be at least 64 bytes");
+  if (!(cfg.units_per_mm > 0)) throw UserError("simulated HPGL plotter: units per mm must be > 0");
+  if (cfg.xoff_free >= cfg.xon_free || cfg.xon_free > cfg.buffer_bytes)
+    throw UserError("simulated HPGL plotter: need xoff_free < xon_free <= buffer size");
+}
+
+HpglSim::~HpglSim() { stop(); }
+
+void HpglSim::on_connect(double t) { now_ = std::max(now_, t); }
+
+void HpglSim::on_disconnect(double) {
+  // Whatever is in the buffer still gets plotted (the plotter does not know the line
+  // went down); only bytes in flight are lost.
+}
+
+bool HpglSim::idle() const { return !executing_ && buf_.find_first_not_of("; \r\n\t,") == std::string::npos; }
+
+void HpglSim::query_reply(const std::string& r, double t) {
+  long k = ++replies_;
+  if (k == faults_.drop_reply) return;
+  if (k == faults_.corrupt_reply) {
+    send("9?x\r", t);
+    return;
+  }
+  send(r + "\r", t);
+}
+
+void HpglSim::device_control(char cmd, double t) {
+  switch (cmd) {
+    case 'B': query_reply(std::to_string(free_bytes()), t); break;
+    case 'L': query_reply(std::to_string(cfg_.buffer_bytes), t); break;
+    case 'E': query_reply(error_ == 7 ? "15" : "0", t); break;
+    case 'O': {
+      // 8: buffer empty and idle; 16: not ready (paper lever / alarm); 32: an error is pending (OE).
+      int s = (idle() ? 8 : 0) | (not_ready_ ? 16 : 0) | (error_ ? 32 : 0);
+      query_reply(std::to_string(s), t);
+      break;
+    }
+    case 'A': query_reply("7475A-sim,1", t); break;
+    case 'K':  // abort graphics: drop what is buffered (not the running instruction)
+      buf_.erase(std::min(buf_.size(), exec_bytes_));
+      check_flow(t);
+      break;
+    case 'R': not_ready_ = false; break;
+    default: break;
+  }
+}
+
+void HpglSim::check_flow(double t) {
+  if (!cfg_.xonxoff) return;
+  if (!xoff_sent_ && free_bytes() < cfg_.xoff_free) {
+    send("\x13", t);
+    xoff_sent_ = true;
+  } else if (xoff_sent_ && free_bytes() >= cfg_.xon_free) {
+    send("\x11", t);
+    xoff_sent_ = false;
+  }
+}
+
+void HpglSim::on_byte(char c, double t) {
+  // Device-control sequences (ESC . x) bypass the buffer and are answered at once.
+  if (esc_state_ == 0 && c == 0x1b) {
+    esc_state_ = 1;
+    return;
+  }
+  if (esc_state_ == 1) {
+    esc_state_ = c == '.' ? 2 : 0;
+    return;
+  }
+  if (esc_state_ == 2) {
+    esc_cmd_ = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (std::string("@HIMNT").find(esc_cmd_) != std::string::npos) {
+      esc_state_ = 3;
+      return;
+    }
+    esc_state_ = 0;
+    device_control(esc_cmd_, t);
+    return;
+  }
+  if (esc_state_ == 3) {
+    if (c == ':' || c == ';') esc_state_ = 0;
+    return;
+  }
+  if (free_bytes() <= 0) {
+    std::lock_guard lk(m_);
+    ++stats_.rx_overflow;
+    error_ = 7;
+    return;
+  }
+  buf_.push_back(c);
+  check_flow(t);
+  if (!executing_) start_next(t);
+}
+
+void HpglSim::start_next(double t) {
+  if (executing_ || not_ready_) return;
+  // Separators between instructions are consumed at once.
+  size_t s = 0;
+  while (s < buf_.size() && is_sep(buf_[s])) ++s;
+  if (s) {
+    buf_.erase(0, s);
+    check_flow(t);
+  }
+  if (buf_.size() < 2) {
+    if (buf_.empty()) mark_idle(t);
+    return;
+  }
+  // One instruction: two letters, then parameters up to ';' or the next letter.
+  size_t e = 2;
+  std::string mn = {static_cast<char>(std::toupper(static_cast<unsigned char>(buf_[0]))),
+                    static_cast<char>(std::toupper(static_cast<unsigned char>(buf_[1])))};
+  bool complete = false;
+  if (mn == "LB") {
+    auto etx = buf_.find('\x03', 2);
+    complete = etx != std::string::npos;
+    e = complete ? etx + 1 : buf_.size();
+  } else {
+    while (e < buf_.size() && buf_[e] != ';' && !std::isalpha(static_cast<unsigned char>(buf_[e]))) ++e;
+    complete = e < buf_.size();
+    if (complete && buf_[e] == ';') ++e;
+  }
+  if (!complete) {
+    if (free_bytes() <= 0) {  // an instruction longer than the buffer: cannot ever finish
+      error_ = 7;
+      buf_.clear();
+      check_flow(t);
+    }
+    return;
+  }
+  std::string params = buf_.substr(2, e - 2);
+  if (!params.empty() && params.back() == ';') params.pop_back();
+  std::vector<double> nums;
+  {
+    std::string cur;
+    auto flush = [&] {
+      if (!cur.empty()) nums.push_back(std::strtod(cur.c_str(), nullptr));
+      cur.clear();
+    };
+    for (char c : params) {
+      if (is_sep(c)) flush();
+      else if ((c == '-' || c == '+') && !cur.empty()) {
+        flush();
+        cur.push_back(c);
+      } else cur.push_back(c);
+    }
+    flush();
+  }
+  long no = ++instr_seen_;
+  {
+    std::lock_guard lk(m_);
+    ++stats_.lines;
+  }
+  double dur = 0;
+  pending_moves_.clear();
+  const MotionParams& m = cfg_.motion;
+  bool known = true;
+  bool pen_before = pen_down_;
+  if (no == faults_.error_line) {
+    error_ = 1;
+    std::lock_guard lk(m_);
+    ++stats_.errors;
+    known = false;
+    mn.clear();
+  } else if (no == faults_.alarm_line) {
+    not_ready_ = true;
+    std::lock_guard lk(m_);
+    ++stats_.alarms;
+    return;  // stops here, the instruction stays in the buffer
+  }
+  if (mn == "IN") {
+    pen_down_ = false;
+    absolute_ = true;
+    error_ = 0;
+    vs_mm_s_ = m.speed_down_mm_s;
+  } else if (mn == "SP") {
+    if (nums.size() > 1) error_ = 2;
+    pen_down_ = false;
+    dur += 1.0;  // the carousel turns
+  } else if (mn == "PU" || mn == "PD" || mn == "PA" || mn == "PR") {
+    if (nums.size() % 2) error_ = 2;
+    if (mn == "PU") pen_down_ = false;
+    if (mn == "PD") pen_down_ = true;
+    if (mn == "PA") absolute_ = true;
+    if (mn == "PR") absolute_ = false;
+    double cx = x_, cy = y_;
+    for (size_t k = 0; k + 1 < nums.size(); k += 2) {
+      double nx = absolute_ ? nums[k] : cx + nums[k], ny = absolute_ ? nums[k + 1] : cy + nums[k + 1];
+      double len = std::hypot(nx - cx, ny - cy) / cfg_.units_per_mm;
+      dur += move_time(len, pen_down_ ? vs_mm_s_ : m.speed_up_mm_s, m.accel_mm_s2);
+      pending_moves_.push_back({nx, ny});
+      cx = nx, cy = ny;
+    }
+  } else if (mn == "VS") {
+    if (!nums.empty() && nums[0] > 0) vs_mm_s_ = nums[0] * 10;
+  } else if (mn == "OE") {
+    query_reply(std::to_string(error_), t);
+    error_ = 0;
+  } else if (mn == "OS") {
+    query_reply(std::to_string(8 | (error_ ? 32 : 0)), t);
+  } else if (mn == "OI") {
+    query_reply("7475A", t);
+  } else if (mn == "OA") {
+    query_reply(std::to_string(static_cast<long>(x_)) + "," + std::to_string(static_cast<long>(y_)) + "," +
+                    (pen_down_ ? "1" : "0"),
+                t);
+  } else if (known && std::string("DF IP SC IW CS LT LB PT RO DI SI SL CA SS").find(mn) == std::string::npos) {
+    error_ = 1;
+  }
+  if (pen_down_ != pen_before) dur += pen_down_ ? m.pen_drop_s : m.pen_lift_s;
+  if (no == faults_.stall_line) dur += faults_.stall_ms / 1000.0;
+  {
+    std::lock_guard lk(m_);
+    if (mn == "SP") {
+      rec_.pen(false);
+      rec_.set_pen_number(nums.empty() ? 0 : static_cast<int>(nums[0]));
+    }
+  }
+  exec_bytes_ = e;
+  executing_ = true;
+  busy_until_ = t + dur;
+  pending_pen_ = pen_down_;
+  mark_busy(t);
+}
+
+void HpglSim::advance(double t) {
+  while (executing_ && busy_until_ <= t) {
+    double te = busy_until_;
+    now_ = te;
+    {
+      std::lock_guard lk(m_);
+      // PU/PD x,y: the pen goes to its state first, then moves.
+      rec_.pen(pending_pen_);
+      for (auto [x, y] : pending_moves_) rec_.move(x, y);
+    }
+    if (!pending_moves_.empty()) {
+      x_ = pending_moves_.back().first;
+      y_ = pending_moves_.back().second;
+    }
+    pending_moves_.clear();
+    buf_.erase(0, std::min(exec_bytes_, buf_.size()));
+    exec_bytes_ = 0;
+    executing_ = false;
+    check_flow(te);
+    start_next(te);
+    if (!executing_) mark_idle(te);
+  }
+  now_ = std::max(now_, t);
+}
+
+double HpglSim::next_event() const { return executing_ ? busy_until_ : kInf; }
+
+}  // namespace stipplot::sim

@@ -1,0 +1,120 @@
+// stipplot sim grbl|hpgl: a simulated plotter on a pseudo-terminal, until killed.
+#include <unistd.h>
+
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <thread>
+
+#include "cli/commands.hpp"
+#include "geometry/page.hpp"
+#include "sim/grbl_sim.hpp"
+#include "sim/hpgl_sim.hpp"
+#include "sim/record.hpp"
+#include "util/error.hpp"
+
+namespace stipplot::cli {
+
+namespace {
+std::atomic<bool> g_sim_stop{false};
+extern "C" void on_sim_signal(int) { g_sim_stop = true; }
+
+struct SimArgs {
+  std::string kind;
+  double speedup = 1, baud = 0, latency_ms = 0;
+  int rx_buffer = 128, buffer = 1024;
+  bool xonxoff = false, soft_limits = false;
+  double travel_x = 300, travel_y = 300;
+  std::string record_png, record_svg, page = "A4";
+  sim::Faults faults;
+  bool once = false;
+};
+}  // namespace
+
+void register_sim(CLI::App& app) {
+  auto a = std::make_shared<SimArgs>();
+  CLI::App* cmd = app.add_subcommand("sim", "Run a simulated grbl or HPGL plotter on a pseudo-terminal");
+  cmd->footer(
+      "Prints the pty path, then serves until Ctrl-C; plot to it with --port PATH. On exit it writes what\n"
+      "it drew (--record-png/--record-svg). Faults count lines from 1 (G-code lines or HPGL instructions).\n"
+      "Example: stipplot sim grbl --speedup 10 --record-png drawn.png   (then: stipplot plot job.gcode --port /dev/pts/N)");
+  cmd->add_option("kind", a->kind, "grbl | hpgl")->required()->check(CLI::IsMember({"grbl", "hpgl"}));
+  cmd->add_option("--speedup", a->speedup, "Run this many times faster than real time")->capture_default_str();
+  cmd->add_option("--baud", a->baud, "Model the wire at this baud rate (10 bits a byte); 0 = instant")->capture_default_str();
+  cmd->add_option("--latency-ms", a->latency_ms, "Round-trip latency of the link (USB-serial: a few ms)")->capture_default_str();
+  cmd->add_option("--rx-buffer", a->rx_buffer, "grbl receive buffer bytes")->capture_default_str();
+  cmd->add_option("--buffer", a->buffer, "HPGL input buffer bytes")->capture_default_str();
+  cmd->add_flag("--xonxoff", a->xonxoff, "HPGL: send XOFF/XON as the buffer fills and drains");
+  cmd->add_flag("--soft-limits", a->soft_limits, "grbl: enable soft limits ($20=1, with homing $22=1)");
+  cmd->add_option("--travel-x", a->travel_x, "grbl: X travel in mm ($130)")->capture_default_str();
+  cmd->add_option("--travel-y", a->travel_y, "grbl: Y travel in mm ($131)")->capture_default_str();
+  cmd->add_option("--record-png", a->record_png, "On exit, render what was drawn to this PNG");
+  cmd->add_option("--record-svg", a->record_svg, "On exit, write what was drawn as SVG");
+  cmd->add_option("--page", a->page, "Page for the record rendering")->capture_default_str();
+  auto* g = "Fault injection";
+  cmd->add_option("--drop-reply", a->faults.drop_reply, "Never answer line K (HPGL: the K-th query)")->group(g);
+  cmd->add_option("--corrupt-reply", a->faults.corrupt_reply, "Garble the reply to line K")->group(g);
+  cmd->add_option("--stall-line", a->faults.stall_line, "Stall at line K ...")->group(g);
+  cmd->add_option("--stall-ms", a->faults.stall_ms, "... for this many ms (device time)")->group(g);
+  cmd->add_option("--disconnect-after", a->faults.disconnect_after_bytes, "Hang up after N received bytes (then a new pty)")->group(g);
+  cmd->add_option("--error-line", a->faults.error_line, "Reject line K (grbl error:20, HPGL error 1)")->group(g);
+  cmd->add_option("--alarm-line", a->faults.alarm_line, "Alarm at line K (grbl ALARM:1, HPGL not ready)")->group(g);
+  cmd->add_flag("--once", a->once, "Exit when the first client has finished and the machine is idle (for scripts)")->group(g);
+  cmd->callback([a] {
+    require_positive("--speedup", a->speedup);
+    require_nonnegative("--baud", a->baud);
+    require_nonnegative("--latency-ms", a->latency_ms);
+    PageSpec ps = parse_page(a->page);
+    Page page;
+    page.width_mm = ps.width_mm;
+    page.height_mm = ps.height_mm;
+    std::unique_ptr<sim::SimDevice> dev;
+    double upm = 1, flip = 0;
+    if (a->kind == "grbl") {
+      sim::GrblSimConfig c;
+      c.speedup = a->speedup;
+      c.link = {a->baud, a->latency_ms};
+      c.rx_buffer = a->rx_buffer;
+      c.soft_limits = a->soft_limits;
+      c.travel_x = a->travel_x;
+      c.travel_y = a->travel_y;
+      c.faults = a->faults;
+      dev = std::make_unique<sim::GrblSim>(c);
+    } else {
+      sim::HpglSimConfig c;
+      c.speedup = a->speedup;
+      c.link = {a->baud, a->latency_ms};
+      c.buffer_bytes = a->buffer;
+      c.xonxoff = a->xonxoff;
+      c.faults = a->faults;
+      dev = std::make_unique<sim::HpglSim>(c);
+      upm = c.units_per_mm;
+      flip = ps.height_mm;
+    }
+    std::signal(SIGINT, on_sim_signal);
+    std::signal(SIGTERM, on_sim_signal);
+    std::printf("%s\n", dev->open_pty().c_str());
+    std::fflush(stdout);
+    while (!g_sim_stop) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      if (!dev->connected()) {  // an injected disconnect: the device comes back on a new pty
+        std::printf("%s\n", dev->open_pty().c_str());
+        std::fflush(stdout);
+      }
+      if (a->once && !dev->record().empty() && dev->wait_idle(0)) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
+        if (dev->wait_idle(0)) break;
+      }
+    }
+    dev->stop();
+    auto rec = dev->record();
+    if (!a->record_png.empty()) sim::write_record_png(rec, page, upm, a->record_png, flip);
+    if (!a->record_svg.empty()) sim::write_record_svg(rec, page, upm, a->record_svg, flip);
+    sim::SimStats s = dev->stats();
+    std::fprintf(stderr, "simulator: %zu lines, %zu segments drawn, plot time %.1f s (device), starved %.2f%%\n", s.lines,
+                 rec.size(), s.plot_time(), 100 * s.starved_share());
+  });
+}
+
+}  // namespace stipplot::cli

@@ -1,0 +1,42 @@
+#pragma once
+// Compares what a simulator drew with what a job plans: equal as multisets.
+#include <algorithm>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "drivers/journal.hpp"
+
+namespace testjob {
+
+struct Diff {
+  size_t missing = 0, extra = 0, duplicated = 0;
+  bool equal() const { return missing == 0 && extra == 0 && duplicated == 0; }
+  std::string str() const {
+    return "missing " + std::to_string(missing) + ", extra " + std::to_string(extra) + ", duplicated " +
+           std::to_string(duplicated);
+  }
+};
+
+inline Diff compare(const std::vector<stipplot::io::Segment>& planned, const std::vector<stipplot::io::Segment>& drawn,
+                    double tol = 1e-6) {
+  auto key = [tol](const stipplot::io::Segment& s) {
+    auto q = [tol](double v) { return static_cast<long long>(std::llround(v / tol)); };
+    return std::make_tuple(s.pen, q(s.x0), q(s.y0), q(s.x1), q(s.y1));
+  };
+  std::map<decltype(key(planned[0])), long> count;
+  for (const auto& s : planned) ++count[key(s)];
+  std::map<decltype(key(planned[0])), long> plan_count = count;
+  Diff d;
+  for (const auto& s : drawn) {
+    auto k = key(s);
+    if (!plan_count.count(k)) ++d.extra;
+    else if (--count[k] < 0) ++d.duplicated;
+  }
+  for (const auto& [k, c] : count)
+    if (c > 0) d.missing += static_cast<size_t>(c);
+  return d;
+}
+
+}  // namespace testjob

@@ -1,0 +1,108 @@
+// The CLI end to end: `stipplot devices`, `stipplot plot --sim`, and `stipplot sim` on a
+// pty with `plot --port`, a disconnect, and `plot --resume`.
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "jobgen.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Out {
+  int rc;
+  std::string text;
+};
+
+Out run(const std::string& args) {
+  std::string cmd = std::string(STIPPLOT_BIN) + " " + args + " 2>&1";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  int st = ::pclose(p);
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, out};
+}
+
+fs::path scratch() {
+  auto d = fs::temp_directory_path() / ("stipplot-cli-" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+std::string write_job(const fs::path& dir, const std::string& name, const std::string& text) {
+  auto p = dir / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+}  // namespace
+
+TEST_CASE("stipplot devices runs with no devices and says so", "[cli][drivers]") {
+  Out o = run("devices");
+  CHECK(o.rc == 0);
+  CHECK(o.text.find("Serial ports") != std::string::npos);
+  CHECK(o.text.find("USB devices") != std::string::npos);
+  Out j = run("devices --json");
+  CHECK(j.rc == 0);
+  CHECK(nlohmann::json::parse(j.text).contains("plausible"));
+}
+
+TEST_CASE("stipplot plot --sim draws exactly the job and writes what it drew", "[cli][drivers]") {
+  auto dir = scratch();
+  std::string job = write_job(dir, "j.gcode", testjob::gcode(testjob::random_strokes(41, 15, 5)));
+  Out o = run("plot " + job + " --sim --sim-speedup 50 --json -q");
+  REQUIRE(o.rc == 0);
+  auto j = nlohmann::json::parse(o.text.substr(o.text.rfind("{\"command\"")));
+  CHECK(j["completed"] == true);
+  CHECK(j["sim_exact"] == true);
+  CHECK(fs::file_size(j["sim_png"].get<std::string>()) > 1000);
+  CHECK(fs::exists(j["sim_svg"].get<std::string>()));
+  std::string hp = write_job(dir, "j.hpgl", testjob::hpgl(testjob::random_strokes(42, 10, 5)));
+  Out h = run("plot " + hp + " --sim --sim-speedup 50 --json -q");
+  REQUIRE(h.rc == 0);
+  CHECK(nlohmann::json::parse(h.text.substr(h.text.rfind("{\"command\""))).at("sim_exact") == true);
+  Out bad = run("plot " + (dir / "missing.gcode").string() + " --sim");
+  CHECK(bad.rc != 0);
+  CHECK(bad.text.find("cannot read") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("stipplot sim on a pty: plot --port, a disconnect, plot --resume", "[cli][drivers][resume]") {
+  auto dir = scratch();
+  std::string job = write_job(dir, "r.gcode", testjob::gcode(testjob::random_strokes(43, 25, 5)));
+  std::string cmd = "sh -c 'echo $$; exec " + std::string(STIPPLOT_BIN) + " sim grbl --speedup 40 --disconnect-after 1500 --record-svg " +
+                    (dir / "drawn.svg").string() + "' 2>/dev/null";
+  FILE* sim = ::popen(cmd.c_str(), "r");
+  REQUIRE(sim);
+  char line[256];
+  REQUIRE(std::fgets(line, sizeof line, sim));
+  pid_t pid = std::atoi(line);
+  REQUIRE(std::fgets(line, sizeof line, sim));
+  std::string pty1 = std::string(line).substr(0, std::strlen(line) - 1);
+  Out first = run("plot " + job + " --port " + pty1 + " -q");
+  CHECK(first.rc != 0);
+  CHECK(first.text.find("disconnected") != std::string::npos);
+  CHECK(first.text.find("--resume " + job) != std::string::npos);
+  REQUIRE(std::fgets(line, sizeof line, sim));  // the simulator is back on a new pty
+  std::string pty2 = std::string(line).substr(0, std::strlen(line) - 1);
+  Out second = run("plot --resume " + job + " --port " + pty2 + " --json -q");
+  CHECK(second.rc == 0);
+  CHECK(second.text.find("\"completed\":true") != std::string::npos);
+  ::kill(pid, SIGTERM);
+  ::pclose(sim);
+  CHECK(fs::exists(dir / "drawn.svg"));
+  Out again = run("plot --resume " + job + " --port " + pty2);
+  CHECK(again.rc != 0);
+  CHECK(again.text.find("already plotted") != std::string::npos);
+  fs::remove_all(dir);
+}

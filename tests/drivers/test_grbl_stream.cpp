@@ -1,0 +1,281 @@
+// End-to-end: the grbl streamer against the simulated grbl, over a pty (the serial
+// transport a real port gets) and the in-process pipe, with each injected fault.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <thread>
+
+#include "compare.hpp"
+#include "drivers/grbl/codes.hpp"
+#include "drivers/grbl/streamer.hpp"
+#include "drivers/journal.hpp"
+#include "drivers/transport/posix_serial.hpp"
+#include "jobgen.hpp"
+#include "sim/grbl_sim.hpp"
+
+using namespace stipplot;
+using namespace stipplot::io;
+
+namespace {
+
+sim::GrblSimConfig fast_config(sim::Faults f = {}) {
+  sim::GrblSimConfig c;
+  c.speedup = 40;
+  c.faults = f;
+  return c;
+}
+
+struct Run {
+  std::unique_ptr<sim::GrblSim> sim;
+  std::unique_ptr<Transport> port;
+};
+
+Run open_pty(const sim::GrblSimConfig& c) {
+  Run r;
+  r.sim = std::make_unique<sim::GrblSim>(c);
+  std::string path = r.sim->open_pty();
+  r.port = std::make_unique<PosixSerial>(path, SerialSettings{});
+  return r;
+}
+
+Job small_job(uint64_t seed = 1, int strokes = 25) {
+  return parse_gcode_job(testjob::gcode(testjob::random_strokes(seed, strokes, 6)));
+}
+
+std::filesystem::path temp_dir() {
+  auto d = std::filesystem::temp_directory_path() / ("stipplot-drv-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(d);
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("grbl codes have grbl's meanings", "[drivers][grbl]") {
+  CHECK(grbl::error_meaning(20).find("Unsupported command") != std::string::npos);
+  CHECK(grbl::error_meaning(22).find("feed rate") != std::string::npos);
+  CHECK(grbl::alarm_meaning(2).find("Soft limit") != std::string::npos);
+  CHECK(grbl::error_meaning(99).find("unknown") != std::string::npos);
+}
+
+TEST_CASE("grbl status reports parse", "[drivers][grbl]") {
+  grbl::Status s;
+  REQUIRE(grbl::parse_status("<Run|MPos:1.500,-2.000,0.000|Bf:12,100|FS:600,30>", s));
+  CHECK(s.state == "Run");
+  CHECK(s.x == Approx(1.5));
+  CHECK(s.y == Approx(-2));
+  CHECK(s.blocks_free == 12);
+  CHECK(s.bytes_free == 100);
+  CHECK(s.feed == Approx(600));
+  CHECK_FALSE(grbl::parse_status("ok", s));
+}
+
+TEST_CASE("character counting over a pty draws exactly the job", "[drivers][grbl][e2e]") {
+  Run r = open_pty(fast_config());
+  Job job = small_job(3);
+  grbl::Streamer st(*r.port, {});
+  st.connect();
+  auto settings = st.read_settings();
+  CHECK(settings.at(110) > 0);
+  CHECK(st.check_settings(settings, grbl::expectations_for(job)).empty());
+  size_t max_lines_in_flight = 0;
+  StreamResult res = st.stream(job, 0, {}, nullptr, [&](const StreamProgress& p) {
+    max_lines_in_flight = std::max(max_lines_in_flight, p.lines_sent - p.lines_acked);
+  });
+  CHECK(res.completed);
+  CHECK(res.lines_acked == job.lines.size());
+  REQUIRE(r.sim->wait_idle(20));
+  auto d = testjob::compare(job_segments(job), r.sim->record());
+  INFO(d.str());
+  CHECK(d.equal());
+  CHECK(r.sim->stats().rx_overflow == 0);
+  CHECK(max_lines_in_flight > 1);  // it really kept several lines in grbl's buffer
+}
+
+TEST_CASE("send-and-wait over the in-process pipe draws exactly the job", "[drivers][grbl][e2e]") {
+  sim::GrblSim sim(fast_config());
+  auto port = sim.connect_loopback();
+  Job job = small_job(4, 10);
+  grbl::Options o;
+  o.mode = grbl::Mode::SendAndWait;
+  grbl::Streamer st(*port, o);
+  st.connect();
+  size_t max_in_flight = 0;
+  StreamResult res = st.stream(job, 0, {}, nullptr, [&](const StreamProgress& p) {
+    max_in_flight = std::max(max_in_flight, p.lines_sent - p.lines_acked);
+  });
+  CHECK(res.completed);
+  REQUIRE(sim.wait_idle(20));
+  CHECK(testjob::compare(job_segments(job), sim.record()).equal());
+  CHECK(max_in_flight <= 1);
+}
+
+TEST_CASE("error:N stops the job naming the line and grbl's meaning; skip goes on", "[drivers][grbl][faults]") {
+  Job job = small_job(5, 8);
+  sim::Faults f;
+  f.error_line = 7;
+  {
+    Run r = open_pty(fast_config(f));
+    grbl::Streamer st(*r.port, {});
+    st.connect();
+    try {
+      st.stream(job, 0, {}, nullptr);
+      FAIL("no error raised");
+    } catch (const grbl::DeviceError& e) {
+      CHECK(e.line() == 6);  // 0-based index of the 7th line
+      CHECK(e.code() == 20);
+      CHECK(std::string(e.what()).find("line 7") != std::string::npos);
+      CHECK(std::string(e.what()).find("Unsupported command") != std::string::npos);
+    }
+  }
+  {
+    Run r = open_pty(fast_config(f));
+    grbl::Options o;
+    o.skip_errors = true;
+    grbl::Streamer st(*r.port, o);
+    st.connect();
+    StreamResult res = st.stream(job, 0, {}, nullptr);
+    CHECK(res.completed);
+    CHECK(res.errors_skipped == 1);
+  }
+}
+
+TEST_CASE("ALARM stops, explains, and leaves the port usable", "[drivers][grbl][faults]") {
+  sim::Faults f;
+  f.alarm_line = 30;
+  Run r = open_pty(fast_config(f));
+  Job job = small_job(6);
+  grbl::Streamer st(*r.port, {});
+  st.connect();
+  try {
+    st.stream(job, 0, {}, nullptr);
+    FAIL("no alarm raised");
+  } catch (const grbl::DeviceError& e) {
+    CHECK(e.alarm());
+    CHECK(e.code() == 1);
+    CHECK(std::string(e.what()).find("Hard limit") != std::string::npos);
+  }
+  // The port still talks: grbl was reset and stays locked until $X.
+  auto s = st.query_status(Millis(5000));
+  CHECK(s.state == "Alarm");
+}
+
+TEST_CASE("soft limits raise ALARM:2; settings check refuses a job beyond them", "[drivers][grbl][faults]") {
+  sim::GrblSimConfig c = fast_config();
+  c.soft_limits = true;
+  c.travel_x = 50;
+  c.travel_y = 50;
+  Run r = open_pty(c);
+  Job job = small_job(7, 10);  // reaches beyond 50 mm
+  grbl::Streamer st(*r.port, {});
+  st.connect();
+  auto settings = st.read_settings();
+  CHECK_THROWS_WITH(st.check_settings(settings, grbl::expectations_for(job)), Catch::Contains("ALARM:2"));
+  try {
+    st.stream(job, 0, {}, nullptr);
+    FAIL("no alarm");
+  } catch (const grbl::DeviceError& e) {
+    CHECK(e.code() == 2);
+    CHECK(std::string(e.what()).find("Soft limit") != std::string::npos);
+  }
+}
+
+TEST_CASE("lost and garbled replies and a stall are survived without losing lines", "[drivers][grbl][faults]") {
+  Job job = small_job(8, 12);
+  for (int kind = 0; kind < 3; ++kind) {
+    sim::Faults f;
+    if (kind == 0) f.drop_reply = 10;
+    if (kind == 1) f.corrupt_reply = 10;
+    if (kind == 2) f.stall_line = 10, f.stall_ms = 3000;  // device time: 75 ms real at 40x
+    Run r = open_pty(fast_config(f));
+    grbl::Options o;
+    o.lost_reply_after = Millis(300);
+    grbl::Streamer st(*r.port, o);
+    st.connect();
+    StreamResult res = st.stream(job, 0, {}, nullptr);
+    CHECK(res.completed);
+    REQUIRE(r.sim->wait_idle(20));
+    auto d = testjob::compare(job_segments(job), r.sim->record());
+    INFO("fault kind " << kind << ": " << d.str());
+    CHECK(d.equal());
+    if (kind < 2) CHECK_FALSE(res.warnings.empty());  // it noticed the reply it never got
+  }
+}
+
+TEST_CASE("check mode ($C) finds a bad line and moves nothing", "[drivers][grbl]") {
+  sim::GrblSim sim(fast_config());
+  auto port = sim.connect_loopback();
+  std::string g = testjob::gcode(testjob::random_strokes(9, 4, 3));
+  g.insert(g.find("G0 X"), "G1 X10 Y10 Q5\n");  // Q: unsupported word
+  Job job = parse_gcode_job(g);
+  grbl::Streamer st(*port, {});
+  st.connect();
+  auto errs = st.check_job(job);
+  REQUIRE(errs.size() == 1);
+  CHECK(job.lines[static_cast<size_t>(errs[0].first)].text.find("Q5") != std::string::npos);
+  CHECK(errs[0].second == 20);
+  CHECK(sim.record().empty());
+  // After leaving check mode grbl is usable again.
+  CHECK(st.query_status(Millis(5000)).state == "Idle");
+}
+
+TEST_CASE("a port that vanishes mid-job gives a clear error and a journal; resume finishes exactly", "[drivers][grbl][resume]") {
+  auto dir = temp_dir();
+  Job job = small_job(10, 30);
+  auto planned = job_segments(job);
+  sim::Faults f;
+  f.disconnect_after_bytes = 900;
+  sim::GrblSim sim(fast_config(f));
+  std::string path = sim.open_pty();
+  std::string jpath = (dir / "job.gcode.journal").string();
+  long acked = -1;
+  {
+    PosixSerial port(path, {});
+    grbl::Streamer st(port, {});
+    st.connect();
+    JournalHeader h;
+    h.job_path = "job.gcode";
+    h.total_lines = job.lines.size();
+    Journal journal(jpath, h);
+    try {
+      st.stream(job, 0, {}, &journal);
+      FAIL("no disconnect");
+    } catch (const TransportError& e) {
+      CHECK(e.kind() == TransportError::Kind::Disconnected);
+      CHECK(std::string(e.what()).find("disconnected") != std::string::npos);
+    }
+    acked = journal.last_acked();
+  }
+  JournalState js = Journal::load(jpath);
+  CHECK(js.last_acked == acked);
+  CHECK_FALSE(js.complete);
+  REQUIRE(acked > 0);
+  REQUIRE(static_cast<size_t>(acked) < job.lines.size() - 1);
+  // Reconnect (a new pty: the device came back) and resume.
+  std::string path2 = sim.open_pty();
+  PosixSerial port2(path2, {});
+  grbl::Streamer st2(port2, {});
+  st2.connect();
+  ResumePlan rp = plan_resume(job, static_cast<size_t>(js.last_acked + 1), st2.device_pen());
+  Journal journal2(jpath, {}, true);
+  StreamResult res = st2.stream(job, rp.next, rp.preamble, &journal2);
+  CHECK(res.completed);
+  REQUIRE(sim.wait_idle(20));
+  auto d = testjob::compare(planned, sim.record());
+  INFO(d.str());
+  std::string pre;
+  for (auto& l : rp.preamble) pre += l + " | ";
+  INFO("resume at " << rp.next << " (acked " << acked << "): " << pre << " next line: " << job.lines[rp.next].text
+                    << " prev: " << job.lines[rp.next - 1].text);
+  CHECK(d.equal());
+  CHECK(Journal::load(jpath).complete);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("no device answering: a clear timeout naming the port", "[drivers][grbl]") {
+  sim::PtyLink silent;  // nobody serves it
+  PosixSerial port(silent.name(), {});
+  grbl::Options o;
+  o.banner_timeout = Millis(800);
+  o.probe_timeout = Millis(300);
+  grbl::Streamer st(port, o);
+  CHECK_THROWS_WITH(st.connect(), Catch::Contains("no answer from grbl") && Catch::Contains(silent.name()));
+}

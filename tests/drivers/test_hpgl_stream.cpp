@@ -1,0 +1,182 @@
+// End-to-end: the HPGL streamer against the simulated HPGL plotter over a pty, with
+// each handshake and injected fault.
+#include <catch2/catch.hpp>
+#include <filesystem>
+
+#include "compare.hpp"
+#include "drivers/grbl/streamer.hpp"
+#include "drivers/hpgl/streamer.hpp"
+#include "drivers/transport/posix_serial.hpp"
+#include "jobgen.hpp"
+#include "sim/hpgl_sim.hpp"
+
+using namespace stipplot;
+using namespace stipplot::io;
+
+namespace {
+
+sim::HpglSimConfig fast(sim::Faults f = {}) {
+  sim::HpglSimConfig c;
+  c.speedup = 40;
+  c.faults = f;
+  return c;
+}
+
+Job hpgl_job(uint64_t seed, int strokes = 25) { return parse_hpgl_job(testjob::hpgl(testjob::random_strokes(seed, strokes, 8))); }
+
+}  // namespace
+
+TEST_CASE("HPGL parsing splits instructions and finds the drawn segments", "[drivers][hpgl]") {
+  Job j = parse_hpgl_job("IN;SP1;PU100,100;PD200,100,200,200;PU;PA300,300;PD;PU;PR10,0;PD10,0;SP0;");
+  REQUIRE(j.lines.size() >= 9);
+  CHECK(j.lines[0].text == "IN;");
+  auto segs = job_segments(j);
+  REQUIRE(segs.size() == 4);
+  CHECK(segs[0] == Segment{100, 100, 200, 100, 1});
+  CHECK(segs[1] == Segment{200, 100, 200, 200, 1});
+  CHECK(segs[2] == Segment{300, 300, 300, 300, 1});  // a touch
+  CHECK(segs[3] == Segment{310, 300, 320, 300, 1});
+  CHECK_THROWS_AS(parse_hpgl_job("IN;1,2;"), UserError);
+}
+
+TEST_CASE("ESC.B polling never overfills the buffer and draws exactly the job", "[drivers][hpgl][e2e]") {
+  sim::HpglSim sim(fast());
+  PosixSerial port(sim.open_pty(), {});
+  Job job = hpgl_job(21);
+  hpgl::Streamer st(port, {});
+  st.connect();
+  CHECK(st.buffer_bytes() == 1024);
+  StreamResult r = st.stream(job, 0, {}, nullptr);
+  CHECK(r.completed);
+  REQUIRE(sim.wait_idle(20));
+  auto d = testjob::compare(job_segments(job), sim.record());
+  INFO(d.str());
+  CHECK(d.equal());
+  CHECK(sim.stats().rx_overflow == 0);
+  CHECK(r.last_acked == static_cast<long>(job.lines.size()) - 1);
+}
+
+TEST_CASE("XON/XOFF at 115200 baud with paced writes: no overflow, exact drawing", "[drivers][hpgl][e2e]") {
+  sim::HpglSimConfig c = fast();
+  c.xonxoff = true;
+  c.speedup = 8;
+  c.xoff_free = 384;  // room for what is in flight when XOFF leaves (the host's reaction is scaled 8x)
+  c.xon_free = 640;
+  c.link.baud = 115200;  // in device time, which runs 8x: the host paces to match
+  sim::HpglSim sim(c);
+  PosixSerial port(sim.open_pty(), {});
+  port.pace(115200 / 10.0 * 8);
+  Job job = hpgl_job(22, 12);
+  hpgl::Options o;
+  o.handshake = hpgl::Handshake::XonXoff;
+  o.newline = true;
+  hpgl::Streamer st(port, o);
+  st.connect();
+  StreamResult r = st.stream(job, 0, {}, nullptr);
+  CHECK(r.completed);
+  REQUIRE(sim.wait_idle(20));
+  CHECK(sim.stats().rx_overflow == 0);
+  CHECK(testjob::compare(job_segments(job), sim.record()).equal());
+}
+
+TEST_CASE("without any handshake a fast host overfills the plotter (the simulator notices)", "[drivers][hpgl]") {
+  sim::HpglSimConfig c = fast();
+  c.speedup = 5;
+  sim::HpglSim sim(c);
+  PosixSerial port(sim.open_pty(), {});
+  Job job = hpgl_job(23, 120);
+  hpgl::Options o;
+  o.handshake = hpgl::Handshake::Hardware;  // but a pty has no RTS/CTS
+  o.status_queries = false;
+  hpgl::Streamer st(port, o);
+  st.connect();
+  st.stream(job, 0, {}, nullptr);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  CHECK(sim.stats().rx_overflow > 0);
+  // With status queries the streamer notices and says the job is incomplete.
+  sim::HpglSim sim2(c);
+  PosixSerial port2(sim2.open_pty(), {});
+  o.status_queries = true;
+  hpgl::Streamer st2(port2, o);
+  st2.connect();
+  CHECK_THROWS_AS(st2.stream(job, 0, {}, nullptr), grbl::DeviceError);
+  CHECK(sim2.stats().rx_overflow > 0);
+}
+
+TEST_CASE("HPGL faults: lost and garbled replies are asked again; errors and not-ready stop", "[drivers][hpgl][faults]") {
+  Job job = hpgl_job(24, 15);
+  for (int kind = 0; kind < 2; ++kind) {
+    sim::Faults f;
+    (kind == 0 ? f.drop_reply : f.corrupt_reply) = 5;
+    sim::HpglSim sim(fast(f));
+    PosixSerial port(sim.open_pty(), {});
+    hpgl::Options o;
+    o.reply_timeout = Millis(300);
+    hpgl::Streamer st(port, o);
+    st.connect();
+    CHECK(st.stream(job, 0, {}, nullptr).completed);
+    REQUIRE(sim.wait_idle(20));
+    CHECK(testjob::compare(job_segments(job), sim.record()).equal());
+  }
+  {
+    sim::Faults f;
+    f.error_line = 6;
+    sim::HpglSim sim(fast(f));
+    PosixSerial port(sim.open_pty(), {});
+    hpgl::Streamer st(port, {});
+    st.connect();
+    try {
+      st.stream(job, 0, {}, nullptr);
+      FAIL("no error");
+    } catch (const grbl::DeviceError& e) {
+      CHECK(e.code() == 1);
+      CHECK(std::string(e.what()).find("instruction not recognized") != std::string::npos);
+    }
+  }
+  {
+    sim::Faults f;
+    f.alarm_line = 8;
+    sim::HpglSim sim(fast(f));
+    PosixSerial port(sim.open_pty(), {});
+    hpgl::Options o;
+    o.not_ready_timeout = Millis(500);
+    hpgl::Streamer st(port, o);
+    st.connect();
+    CHECK_THROWS_WITH(st.stream(job, 0, {}, nullptr), Catch::Contains("not ready"));
+  }
+}
+
+TEST_CASE("HPGL: a vanished port leaves a journal; resume loses nothing", "[drivers][hpgl][resume]") {
+  auto dir = std::filesystem::temp_directory_path() / ("stipplot-hpgl-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::string jpath = (dir / "job.hpgl.journal").string();
+  Job job = hpgl_job(25, 30);
+  sim::Faults f;
+  f.disconnect_after_bytes = 700;
+  sim::HpglSim sim(fast(f));
+  {
+    PosixSerial port(sim.open_pty(), {});
+    hpgl::Streamer st(port, {});
+    st.connect();
+    JournalHeader h;
+    h.total_lines = job.lines.size();
+    Journal journal(jpath, h);
+    CHECK_THROWS_AS(st.stream(job, 0, {}, &journal), TransportError);
+  }
+  JournalState js = Journal::load(jpath);
+  REQUIRE(static_cast<size_t>(js.last_acked + 1) < job.lines.size());
+  PosixSerial port2(sim.open_pty(), {});
+  hpgl::Streamer st2(port2, {});
+  st2.connect();
+  ResumePlan rp = plan_resume(job, static_cast<size_t>(js.last_acked + 1));
+  Journal journal2(jpath, {}, true);
+  CHECK(st2.stream(job, rp.next, rp.preamble, &journal2).completed);
+  REQUIRE(sim.wait_idle(20));
+  auto d = testjob::compare(job_segments(job), sim.record());
+  INFO(d.str());
+  // HPGL has no per-line acknowledgement: what the plotter did after its last ESC.B
+  // answer may be drawn again, but nothing is lost and nothing foreign is drawn.
+  CHECK(d.missing == 0);
+  CHECK(d.extra == 0);
+  std::filesystem::remove_all(dir);
+}
