@@ -108,7 +108,7 @@ TEST_CASE("send-and-wait over the in-process pipe draws exactly the job", "[driv
   CHECK(max_in_flight <= 1);
 }
 
-TEST_CASE("error:N stops the job naming the line and grbl's meaning; skip goes on", "[drivers][grbl][faults]") {
+TEST_CASE("error:N stops the job naming the line and grbl's meaning, skip goes on", "[drivers][grbl][faults]") {
   Job job = small_job(5, 8);
   sim::Faults f;
   f.error_line = 7;
@@ -158,7 +158,7 @@ TEST_CASE("ALARM stops, explains, and leaves the port usable", "[drivers][grbl][
   CHECK(s.state == "Alarm");
 }
 
-TEST_CASE("soft limits raise ALARM:2; settings check refuses a job beyond them", "[drivers][grbl][faults]") {
+TEST_CASE("soft limits raise ALARM:2, settings check refuses a job beyond them", "[drivers][grbl][faults]") {
   sim::GrblSimConfig c = fast_config();
   c.soft_limits = true;
   c.travel_x = 50;
@@ -217,7 +217,7 @@ TEST_CASE("check mode ($C) finds a bad line and moves nothing", "[drivers][grbl]
   CHECK(st.query_status(Millis(5000)).state == "Idle");
 }
 
-TEST_CASE("a port that vanishes mid-job gives a clear error and a journal; resume finishes exactly", "[drivers][grbl][resume]") {
+TEST_CASE("a port that vanishes mid-job gives a clear error and a journal, resume finishes exactly", "[drivers][grbl][resume]") {
   auto dir = temp_dir();
   Job job = small_job(10, 30);
   auto planned = job_segments(job);

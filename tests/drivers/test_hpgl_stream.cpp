@@ -103,7 +103,7 @@ TEST_CASE("without any handshake a fast host overfills the plotter (the simulato
   CHECK(sim2.stats().rx_overflow > 0);
 }
 
-TEST_CASE("HPGL faults: lost and garbled replies are asked again; errors and not-ready stop", "[drivers][hpgl][faults]") {
+TEST_CASE("HPGL faults: lost and garbled replies are asked again, errors and not-ready stop", "[drivers][hpgl][faults]") {
   Job job = hpgl_job(24, 15);
   for (int kind = 0; kind < 2; ++kind) {
     sim::Faults f;
@@ -146,7 +146,7 @@ TEST_CASE("HPGL faults: lost and garbled replies are asked again; errors and not
   }
 }
 
-TEST_CASE("HPGL: a vanished port leaves a journal; resume loses nothing", "[drivers][hpgl][resume]") {
+TEST_CASE("HPGL: a vanished port leaves a journal, resume loses nothing", "[drivers][hpgl][resume]") {
   auto dir = std::filesystem::temp_directory_path() / ("stipplot-hpgl-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   std::string jpath = (dir / "job.hpgl.journal").string();

@@ -18,7 +18,7 @@
 using namespace stipplot;
 using namespace stipplot::io;
 
-TEST_CASE("libserialport: settings map to its enums; enumeration works; a missing port is a clear error", "[drivers][transport]") {
+TEST_CASE("libserialport: settings map to its enums, enumeration works, a missing port is a clear error", "[drivers][transport]") {
   SerialSettings s;
   s.baud = 9600;
   s.parity = Parity::Even;
@@ -42,7 +42,7 @@ TEST_CASE("libserialport: settings map to its enums; enumeration works; a missin
   CHECK_THROWS_WITH(SpSerial("/dev/ttyNOPE99", {}), Catch::Contains("/dev/ttyNOPE99"));
 }
 
-TEST_CASE("libusb: listing works without devices; a missing device says so", "[drivers][transport]") {
+TEST_CASE("libusb: listing works without devices, a missing device says so", "[drivers][transport]") {
   std::string err;
   auto devs = list_usb_devices(&err);  // a container may have no USB at all: then err says why
   for (const auto& d : devs) CHECK(d.vid >= 0);
@@ -181,7 +181,7 @@ TEST_CASE("journal: records survive, a torn record is ignored, rollback wins", "
   CHECK_THROWS_WITH(Journal::load(path), Catch::Contains("no journal"));
 }
 
-TEST_CASE("resume plans: lift, travel, restore the pen; dots are not touched twice", "[drivers][journal]") {
+TEST_CASE("resume plans: lift, travel, restore the pen, dots are not touched twice", "[drivers][journal]") {
   // lines: 0 G21, 1 G90, 2 M5, 3 G0 X10 Y10, 4 M3 S30, 5 G4 P0.1, 6 G1 X20 Y10 F600, 7 G1 X20 Y20,
   //        8 M5, 9 G0 X50 Y50, 10 M3 S30, 11 G4 P0.1, 12 M5, 13 G0 X0 Y0
   std::string g =

@@ -45,7 +45,7 @@ TEST_CASE("sim grbl: banner, ok, errors, settings, status", "[sim][grbl]") {
   CHECK(st.rfind("<Idle|MPos:0.000,0.000,0.000|Bf:15,128|FS:", 0) == 0);
 }
 
-TEST_CASE("sim grbl: a move takes its trapezoid's time; hold freezes it; Ctrl-X in motion alarms", "[sim][grbl]") {
+TEST_CASE("sim grbl: a move takes its trapezoid's time, hold freezes it, Ctrl-X in motion alarms", "[sim][grbl]") {
   sim::GrblSimConfig c;
   c.speedup = 20;
   c.motion.accel_mm_s2 = 1000;
@@ -84,7 +84,7 @@ TEST_CASE("sim grbl: a move takes its trapezoid's time; hold freezes it; Ctrl-X 
   CHECK(k.line() == "ok");
 }
 
-TEST_CASE("sim grbl: the receive buffer is 128 bytes; overfilling it loses bytes", "[sim][grbl]") {
+TEST_CASE("sim grbl: the receive buffer is 128 bytes, overfilling it loses bytes", "[sim][grbl]") {
   sim::GrblSimConfig c;
   c.speedup = 1;
   sim::GrblSim g(c);
