@@ -165,6 +165,22 @@ TEST_CASE("rgb probabilities are the paper's: p = max(0, (d - D)/d)", "[sketch]"
   }
 }
 
+TEST_CASE("hsi black: the paper's saturation misses dark tinted pixels, chroma does not", "[sketch]") {
+  SketchParams p;
+  p.space = ColorSpace::Hsi;
+  const auto pens = builtin_pens(ColorSpace::Hsi, 0.3);  // green 2, black 6
+  const Image dark = patches({Color{10, 25, 12}}, 1);     // a near-black sky with a green tint
+  auto paper = pen_probabilities(dark, p, pens);
+  CHECK(paper[6][0] < 0.2f);   // HSI saturation 0.36: black loses...
+  CHECK(paper[2][0] > 0.8f);   // ...to a strong green (hue 8 degrees off the pen's)
+  p.hsi_black = HsiBlack::Chroma;
+  auto chroma = pen_probabilities(dark, p, pens);
+  CHECK(chroma[6][0] == Approx(std::exp(-5.0 * 15 / 255)).epsilon(1e-5));
+  CHECK(chroma[2][0] == Approx((1 - chroma[6][0]) * paper[2][0]).epsilon(1e-5));
+  CHECK(chroma[6][0] > chroma[2][0]);
+  CHECK_THROWS_AS(parse_hsi_black("lab"), UserError);
+}
+
 TEST_CASE("strokes run across the gradient, longer and thicker where it is strong", "[sketch]") {
   SketchParams p;
   p.cell = Length{1, true};

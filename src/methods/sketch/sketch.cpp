@@ -32,6 +32,12 @@ Lighten parse_lighten(const std::string& name) {
   throw UserError("--lighten: expected auto, on or off, got '" + name + "'");
 }
 
+HsiBlack parse_hsi_black(const std::string& name) {
+  if (name == "paper") return HsiBlack::Paper;
+  if (name == "chroma") return HsiBlack::Chroma;
+  throw UserError("--hsi-black: expected paper or chroma, got '" + name + "'");
+}
+
 PreviewStyle parse_preview_style(const std::string& name) {
   if (name == "paper") return PreviewStyle::Paper;
   if (name == "plot") return PreviewStyle::Plot;
@@ -166,16 +172,20 @@ std::vector<std::vector<float>> pen_probabilities(const Image& grid, const Sketc
     const double r = kPi / 3;
     std::vector<double> pen_hue(pens.size());
     for (size_t c = 0; c < pens.size(); ++c) pen_hue[c] = pens[c].name == "black" ? -1 : hue_of_pen(pens[c].color);
+    const bool chroma = params.hsi_black == HsiBlack::Chroma;
     for (size_t i = 0; i < n; ++i) {
+      const double R = grid.rgb[3 * i] / 255.0, G = grid.rgb[3 * i + 1] / 255.0, B = grid.rgb[3 * i + 2] / 255.0;
       double hue, sat;
-      hsi(grid.rgb[3 * i] / 255.0, grid.rgb[3 * i + 1] / 255.0, grid.rgb[3 * i + 2] / 255.0, hue, sat);
+      hsi(R, G, B, hue, sat);
+      const double black = chroma ? std::exp(-5.0 * (std::max({R, G, B}) - std::min({R, G, B}))) : std::exp(-5.0 * sat);
+      const double hue_scale = chroma ? 1.0 - black : 1.0;
       for (size_t c = 0; c < pens.size(); ++c) {
         if (pen_hue[c] < 0) {
-          p[c][i] = static_cast<float>(std::exp(-5.0 * sat));
+          p[c][i] = static_cast<float>(black);
         } else if (hue >= 0) {
           double dth = std::abs(hue - pen_hue[c]);
           dth = std::min(dth, 2 * kPi - dth);
-          p[c][i] = static_cast<float>(std::max(0.0, (r - dth) / r));
+          p[c][i] = static_cast<float>(hue_scale * std::max(0.0, (r - dth) / r));
         }
       }
     }
