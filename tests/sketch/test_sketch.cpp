@@ -243,7 +243,10 @@ TEST_CASE("lightening: paper preview lightens, the plot thins in proportion", "[
     for (const auto& s : strokes) plotted += s.plotted;
     const double t = im->rgb[0] / 255.0;
     CHECK(strokes[0].lighten == Approx(t).epsilon(1e-5));
-    CHECK(static_cast<double>(plotted) / strokes.size() == Approx(1 - t).margin(0.03));
+    // p = 1 (capped): lambda = 4 marks per cell; keep k so that 1 - exp(-4k) = (1 - t)(1 - exp(-4))
+    const double pc = -std::expm1(-4.0), k = std::log1p(-(1 - t) * pc) / std::log1p(-pc);
+    CHECK(static_cast<double>(plotted) / strokes.size() == Approx(k).margin(0.02));
+    CHECK(k < 1 - t);
     // hue pens get nothing on grey
     for (size_t c = 0; c + 1 < r.pens.size(); ++c) CHECK(r.pens[c].strokes.empty());
   }
@@ -309,6 +312,11 @@ TEST_CASE("bad parameters are rejected naming the option", "[sketch]") {
   bad([](SketchParams& q) { q.reach = -1; }, "--reach");
   bad([](SketchParams& q) { q.space = ColorSpace::Pens; }, "--pens");
   CHECK_THROWS_AS(parse_color_space("cmyk"), UserError);
+  // a grid or stroke count beyond reason is refused up front, naming --cell
+  SketchParams tiny_cells;
+  tiny_cells.cell = Length{0.001, false};
+  Image black = patches({Color{0, 0, 0}}, 8);
+  CHECK_THROWS_WITH(sketch_strokes(black, tiny_cells, Placement{}), Catch::Contains("--cell"));
   CHECK_THROWS_AS(parse_lighten("maybe"), UserError);
 }
 

@@ -16,7 +16,9 @@
 // (--hsi-black chroma: see HsiBlack.)
 // Lightening (where the pixel is brighter than the pen, t = (Y_pixel - Y_pen)/(1 - Y_pen)
 // in Rec. 601 luma): the paper's preview draws the mark lightened toward white by t; ink
-// cannot be lightened, so for plotting a mark is dropped with probability t.
+// cannot be lightened, so for plotting the pen's marks are thinned so that its ink covers
+// (1 - t) of what it would (keep share k = ln(1 - (1-t) p) / ln(1 - p): 1 - t where
+// marks are sparse, fewer where they overlap).
 #include <cstdint>
 #include <string>
 #include <vector>
