@@ -424,7 +424,8 @@ TEST_CASE("CIEDE2000 matches Sharma, Wu & Dalal (2005) Table 1", "[sketch][color
 
 TEST_CASE("colour fidelity: the rgb pens beat a one-pen black sketch (mean dE00, blurred)", "[sketch][color]") {
   const Image img = load_image(std::string(STIPPLOT_SOURCE_DIR) + "/examples/coffee.png");
-  Placement pl;
+  Placement pl;  // A5: a smaller sketch, same method, keeps the test quick
+  pl.page = {148, 210};
   pl.landscape = true;
   auto measure = [&](const SketchParams& p) {
     SketchResult r = sketch_strokes(img, p, pl);
@@ -451,7 +452,7 @@ TEST_CASE("sketch CLI: both spaces and a palette, one layer per pen, bad input r
   const std::string pal = std::string(STIPPLOT_SOURCE_DIR) + "/examples/pens/fineliner12.toml";
   for (const std::string& mode : std::vector<std::string>{"--space rgb", "--space hsi", "--pens " + pal}) {
     auto r = test::run_cli("sketch " + img + " " + mode + " -o " + t.file("o.svg") + " --preview " + t.file("p.png") +
-                           " --measure --json");
+                           " --page 120x90mm --preview-dpi 100 --measure --json");
     INFO(mode << ": " << r.err);
     REQUIRE(r.exit_code == 0);
     auto j = nlohmann::json::parse(r.out);
