@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "methods/stipple/stipple.hpp"
+#include "util/progress.hpp"
 
 namespace stipplot::cli {
 
@@ -44,7 +45,10 @@ void register_stipple(CLI::App& app) {
     a.out.validate();
     Image img = load_input(a.out);
     auto t1 = std::chrono::steady_clock::now();
-    Drawing d = stipple(img, a.p, placement);
+    // A bar only where it helps: big images on a terminal, never with --json/--quiet.
+    Progress bar("stippling", 1000, img.pixels() >= 4'000'000 && !a.out.json && !a.out.quiet);
+    Drawing d = stipple(img, a.p, placement, [&](double f) { bar.update(static_cast<uint64_t>(f * 1000)); });
+    bar.finish();
     double method_s = seconds_since(t1);
     nlohmann::json s;
     s["command"] = "stipple";

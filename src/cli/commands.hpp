@@ -5,6 +5,10 @@ namespace stipplot::cli {
 // Each adds one subcommand to the app.
 void register_stipple(CLI::App& app);
 void register_eval(CLI::App& app);
+void register_tree(CLI::App& app);
 void register_sketch(CLI::App& app);
+void register_pointillism(CLI::App& app);
+void register_profiles(CLI::App& app);
+void register_export(CLI::App& app);
 void register_all(CLI::App& app);
 }  // namespace stipplot::cli

@@ -3,6 +3,13 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "drivers/gcode/gcode_writer.hpp"
+#include "drivers/hpgl/hpgl_writer.hpp"
+#include "drivers/machine.hpp"
+#include "drivers/profile.hpp"
+#include "plan/planner.hpp"
+#include "plan/stats.hpp"
+#include "planned_svg.hpp"
 #include "preview/preview.hpp"
 #include "svg_writer.hpp"
 #include "util/atomic_file.hpp"
@@ -36,7 +43,12 @@ void add_placement_options(CLI::App* cmd, PlacementArgs& a) {
 
 void add_output_options(CLI::App* cmd, OutputArgs& a) {
   cmd->add_option("input", a.input, "Input image (PNG, JPEG, BMP, TGA)")->required();
-  cmd->add_option("-o,--output", a.output, "Output file: .svg")->required()->group("Output");
+  cmd->add_option("-o,--output", a.output,
+                  "Output file: .svg (the drawing), .gcode (grbl) or .hpgl (planned for --profile)")
+      ->required()->group("Output");
+  cmd->add_option("--profile", a.profile, "Device profile NAME or PATH for .gcode/.hpgl (see `stipplot profiles`)")
+      ->capture_default_str()->group("Output");
+  add_plan_options(cmd, a.plan);
   cmd->add_option("--preview", a.preview, "Also write a preview PNG of what the pens will draw")->group("Output");
   cmd->add_option("--preview-dpi", a.preview_dpi, "Preview resolution")->capture_default_str()->group("Output");
   cmd->add_flag("--json", a.json, "Print a one-line JSON summary instead of prose")->group("Output");
@@ -53,9 +65,30 @@ std::string lower_ext(const std::string& path) {
 }
 }  // namespace
 
+OutputKind output_kind(const std::string& path, const std::string& option) {
+  std::string e = lower_ext(path);
+  if (e == ".svg") return OutputKind::svg;
+  if (e == ".gcode" || e == ".nc" || e == ".gc") return OutputKind::gcode;
+  if (e == ".hpgl" || e == ".plt" || e == ".hpg") return OutputKind::hpgl;
+  throw UserError(option + " " + path + ": unknown output type '" + e + "' (use .svg, .gcode or .hpgl)");
+}
+
+namespace {
+// The profile must speak what the file is; checked before any work.
+void check_profile_for(OutputKind kind, const std::string& path, const std::string& profile_name) {
+  if (kind == OutputKind::svg) return;
+  DeviceProfile prof = find_profile(profile_name);
+  if (kind == OutputKind::gcode && prof.protocol != Protocol::grbl)
+    throw UserError("-o " + path + ": profile " + prof.name + " is an HPGL plotter; write .hpgl or use a grbl profile");
+  if (kind == OutputKind::hpgl && prof.protocol != Protocol::hpgl)
+    throw UserError("-o " + path + ": profile " + prof.name + " speaks G-code; write .gcode or use an HPGL profile");
+}
+}  // namespace
+
 void OutputArgs::validate() const {
-  std::string e = lower_ext(output);
-  if (e != ".svg") throw UserError("-o " + output + ": unknown output type '" + e + "' (use .svg)");
+  OutputKind kind = output_kind(output);
+  check_profile_for(kind, output, profile);
+  if (kind != OutputKind::svg) (void)plan.resolve();
   require_writable_dir(output);
   if (!preview.empty()) {
     if (lower_ext(preview) != ".png") throw UserError("--preview " + preview + ": the preview is a PNG file");
@@ -71,9 +104,42 @@ Image load_input(const OutputArgs& a) {
   return load_image(a.input, lo);
 }
 
+void write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
+                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary) {
+  const OutputKind kind = output_kind(path);
+  DeviceProfile prof = find_profile(profile);
+  check_profile_for(kind, path, profile);
+  PlanOptions po = plan_args.resolve();
+  // The pen starts at machine zero: plan from there (in page coordinates).
+  po.origin = MachineTransform(prof, d.page).page_position_of_machine_zero();
+  auto t0 = std::chrono::steady_clock::now();
+  Plan plan = plan_drawing(d, po);
+  double plan_s = seconds_since(t0);
+  auto t1 = std::chrono::steady_clock::now();
+  if (kind == OutputKind::gcode) {
+    write_gcode_file(plan, prof, path);
+  } else if (kind == OutputKind::hpgl) {
+    write_hpgl_file(plan, prof, path);
+  } else {
+    // the planned order is only checked against the device when it goes to one
+    PlannedSvgOptions so;
+    so.show_travel = show_travel;
+    write_planned_svg(plan, path, so);
+  }
+  summary["output"] = path;
+  summary["profile"] = prof.name;
+  summary["plan"] = to_json(plan_stats(plan, motion_params(prof), po.origin));
+  summary["seconds_plan"] = plan_s;
+  summary["seconds_write"] = seconds_since(t1);
+}
+
 void write_outputs(const Drawing& d, const OutputArgs& a, nlohmann::json& summary) {
-  write_svg(d, a.output);
-  summary["output"] = a.output;
+  if (output_kind(a.output) == OutputKind::svg) {
+    write_svg(d, a.output);
+    summary["output"] = a.output;
+  } else {
+    write_planned_output(d, a.output, a.profile, a.plan, false, summary);
+  }
   if (!a.preview.empty()) {
     PreviewOptions po;
     po.dpi = a.preview_dpi;

@@ -8,6 +8,7 @@
 
 #include "geometry/drawing.hpp"
 #include "image/image.hpp"
+#include "cli/plan_options.hpp"
 #include "methods/placement.hpp"
 
 namespace stipplot::cli {
@@ -25,6 +26,8 @@ void add_placement_options(CLI::App* cmd, PlacementArgs& a);
 struct OutputArgs {
   std::string input;
   std::string output;
+  std::string profile = "grbl-servo";  // for .gcode/.hpgl outputs
+  PlanArgs plan;                       // for .gcode/.hpgl outputs
   std::string preview;
   double preview_dpi = 150;
   bool json = false;
@@ -33,8 +36,20 @@ struct OutputArgs {
   // Checked before any work: output kinds known, directories writable.
   void validate() const;
 };
-// Adds IN (positional), -o, --preview, --preview-dpi, --json, --quiet, --max-pixels.
+// Adds IN (positional), -o, --profile, the planning options, --preview, --preview-dpi,
+// --json, --quiet, --max-pixels.
 void add_output_options(CLI::App* cmd, OutputArgs& a);
+
+// Output kinds by extension: a Drawing as SVG, or planned for a device as G-code/HPGL
+// (or, for export, the planned order as SVG).
+enum class OutputKind { svg, gcode, hpgl };
+OutputKind output_kind(const std::string& path, const std::string& option = "-o");
+
+// Plans the drawing with the profile's motion limits, writes G-code, HPGL or the planned
+// SVG (by the extension of `path`) atomically, and adds the profile, the plan's statistics
+// (pen-down/up length, lifts, estimated time) and the timings to `summary`.
+void write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
+                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary);
 
 Image load_input(const OutputArgs& a);
 

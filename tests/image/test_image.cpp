@@ -24,7 +24,7 @@ std::vector<uint8_t> rgba_pattern(int w, int h) {
 }
 }  // namespace
 
-TEST_CASE("PNG, BMP, TGA and JPEG load; alpha composites on white", "[image]") {
+TEST_CASE("PNG, BMP, TGA and JPEG load, alpha composites on white", "[image]") {
   test::TempDir t;
   const int w = 16, h = 8;
   auto px = rgba_pattern(w, h);

@@ -258,7 +258,7 @@ TEST_CASE("lightening: paper preview lightens, the plot thins in proportion", "[
   }
 }
 
-TEST_CASE("the same seed gives the same sketch; another seed another", "[sketch]") {
+TEST_CASE("the same seed gives the same sketch, another seed another", "[sketch]") {
   SketchParams p;
   Image im = patches({Color{200, 30, 30}, Color{20, 20, 20}}, 40);
   auto a = sketch_strokes(im, p, Placement{}), b = sketch_strokes(im, p, Placement{});
@@ -293,7 +293,7 @@ TEST_CASE("tiny and uniform images do not hang or divide by zero", "[sketch]") {
   }
 }
 
-TEST_CASE("bad parameters are rejected naming the option", "[sketch]") {
+TEST_CASE("sketch: bad parameters are rejected naming the option", "[sketch]") {
   SketchParams p;
   auto bad = [&](auto change, const char* name) {
     SketchParams q = p;

@@ -126,7 +126,7 @@ TEST_CASE("the first pixel visited always gets a dot", "[pds]") {
   CHECK(dots[0] == order[0]);
 }
 
-TEST_CASE("binary stippling: no pixel holds both colours; each colour keeps its radius", "[pds][binary]") {
+TEST_CASE("binary stippling: no pixel holds both colours, each colour keeps its radius", "[pds][binary]") {
   const int w = 50, h = 40;
   auto d = noise_image(w, h, 21);
   auto s = pds::RadiusTable::linear(1, 5, false), t = pds::RadiusTable::linear(1.5, 4, true);

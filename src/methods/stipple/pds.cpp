@@ -129,6 +129,8 @@ RadiusTable RadiusTable::linear(double a, double b, bool inverted) {
 double RadiusTable::min() const { return *std::min_element(r, r + 256); }
 
 namespace {
+constexpr size_t kProgressMask = (1u << 20) - 1;
+
 // True when the radius never decreases along the order, so CoverMask applies.
 bool radii_monotone(const std::vector<uint8_t>& d, const RadiusTable& radius, const std::vector<uint32_t>& order) {
   double last = -1;
@@ -142,13 +144,15 @@ bool radii_monotone(const std::vector<uint8_t>& d, const RadiusTable& radius, co
 }  // namespace
 
 std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& d, const RadiusTable& radius,
-                             const std::vector<uint32_t>& order) {
+                             const std::vector<uint32_t>& order, const ProgressFn& progress) {
   DotGrid grid(width, height, radius.min());
   std::vector<uint32_t> dots;
   const uint32_t w = static_cast<uint32_t>(width);
   if (radii_monotone(d, radius, order)) {
     CoverMask cover(width, height);
-    for (uint32_t idx : order) {
+    for (size_t k = 0; k < order.size(); ++k) {
+      if (progress && (k & kProgressMask) == 0) progress(static_cast<double>(k) / static_cast<double>(order.size()));
+      const uint32_t idx = order[k];
       if (cover.covered(idx)) continue;
       const int x = static_cast<int>(idx % w), y = static_cast<int>(idx / w);
       const uint8_t v = d[idx];
@@ -160,7 +164,9 @@ std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& 
     }
     return dots;
   }
-  for (uint32_t idx : order) {
+  for (size_t k = 0; k < order.size(); ++k) {
+    if (progress && (k & kProgressMask) == 0) progress(static_cast<double>(k) / static_cast<double>(order.size()));
+    const uint32_t idx = order[k];
     const int x = static_cast<int>(idx % w), y = static_cast<int>(idx / w);
     const uint8_t v = d[idx];
     if (!grid.any_within(x, y, radius.r[v], radius.r2[v])) {
@@ -172,7 +178,8 @@ std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& 
 }
 
 BinaryResult sample_binary(int width, int height, const std::vector<uint8_t>& d, const RadiusTable& s,
-                           const RadiusTable& t, const std::vector<uint32_t>& dark_first) {
+                           const RadiusTable& t, const std::vector<uint32_t>& dark_first,
+                           const ProgressFn& progress) {
   DotGrid black(width, height, s.min()), white(width, height, t.min());
   // Black radii grow along the dark-first order and white radii along its reverse
   // whenever s and t are the paper's linear ramps; otherwise the masks stay unused.
@@ -187,6 +194,7 @@ BinaryResult sample_binary(int width, int height, const std::vector<uint8_t>& d,
   const uint32_t w = static_cast<uint32_t>(width);
   const size_t n = dark_first.size();
   for (size_t k = 0; k < n; ++k) {
+    if (progress && (k & kProgressMask) == 0) progress(static_cast<double>(k) / static_cast<double>(n));
     // Step k: the k-th darkest pixel may take a black dot, then the k-th brightest a white one.
     uint32_t i = dark_first[k];
     if (held[i] != kWhite && !(black_mono && black_cover.covered(i))) {

@@ -3,11 +3,15 @@
 // The building block of every stippling variant and of the tree method's points.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "util/rng.hpp"
 
 namespace stipplot::pds {
+
+// Progress callback: fraction of the work done, called about every million pixels.
+using ProgressFn = std::function<void(double)>;
 
 // Visiting orders. Both return pixel indices (y * width + x).
 // Random order: a uniform permutation. O(n).
@@ -66,7 +70,7 @@ struct RadiusTable {
 // already placed lies within its radius (closed disc). Returns dot pixel indices in
 // placement order. O(n * (r_max/g + 2)^2 * capacity) time, O(n) memory.
 std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& d, const RadiusTable& radius,
-                             const std::vector<uint32_t>& order);
+                             const std::vector<uint32_t>& order, const ProgressFn& progress = {});
 
 // Binary stippling: black dots visited dark first with radius s, white dots bright
 // first with radius t, interleaved step by step; a pixel never holds both colours.
@@ -74,6 +78,7 @@ struct BinaryResult {
   std::vector<uint32_t> black, white;
 };
 BinaryResult sample_binary(int width, int height, const std::vector<uint8_t>& d, const RadiusTable& s,
-                           const RadiusTable& t, const std::vector<uint32_t>& dark_first);
+                           const RadiusTable& t, const std::vector<uint32_t>& dark_first,
+                           const ProgressFn& progress = {});
 
 }  // namespace stipplot::pds

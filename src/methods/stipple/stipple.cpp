@@ -48,22 +48,36 @@ namespace {
 
 constexpr Color kGreyPaper{128, 128, 128};
 
+// blank_from: grey levels at or above this get no dot at all (256 = the paper: every
+// level gets dots, white ones sparsest).
 std::vector<uint32_t> one_colour(int w, int h, const std::vector<uint8_t>& d, double a, double b, bool random,
-                                 Rng& rng) {
+                                 Rng& rng, const pds::ProgressFn& progress, int blank_from = 256) {
   auto radius = pds::RadiusTable::linear(a, b, false);
   auto order = random ? pds::random_order(d.size(), rng) : pds::grayscale_order(d, rng);
-  return pds::sample(w, h, d, radius, order);
+  if (blank_from < 256) {
+    // grayscale order is sorted by level, so the blank pixels are a suffix
+    auto cut = std::find_if(order.begin(), order.end(), [&](uint32_t i) { return d[i] >= blank_from; });
+    order.erase(cut, order.end());
+  }
+  return pds::sample(w, h, d, radius, order, progress);
 }
 
-pds::BinaryResult binary(int w, int h, const std::vector<uint8_t>& d, const StippleParams& p, Rng& rng) {
+pds::BinaryResult binary(int w, int h, const std::vector<uint8_t>& d, const StippleParams& p, Rng& rng,
+                         const pds::ProgressFn& progress) {
   auto s = pds::RadiusTable::linear(p.a_b, p.b_b, false);
   auto t = pds::RadiusTable::linear(p.a_w, p.b_w, true);
-  return pds::sample_binary(w, h, d, s, t, pds::grayscale_order(d, rng));
+  return pds::sample_binary(w, h, d, s, t, pds::grayscale_order(d, rng), progress);
+}
+
+// Progress of part `i` of `n` equal parts (colour channels, inks).
+pds::ProgressFn part(const pds::ProgressFn& all, int i, int n) {
+  if (!all) return {};
+  return [all, i, n](double f) { all((i + f) / n); };
 }
 
 }  // namespace
 
-StippleResult stipple_pixels(const Image& image, const StippleParams& p) {
+StippleResult stipple_pixels(const Image& image, const StippleParams& p, const std::function<void(double)>& progress) {
   p.validate();
   if (image.pixels() == 0) throw UserError("image has no pixels");
   if (image.pixels() >= (1ull << 32)) throw UserError("image too large for the stippler (4 Gpixel limit)");
@@ -76,7 +90,7 @@ StippleResult stipple_pixels(const Image& image, const StippleParams& p) {
     case StippleMethod::Random:
     case StippleMethod::Gray: {
       out.layers.push_back({Pen{"black", colors::black, 0.3},
-                            one_colour(w, h, image.luma(), p.a, p.b, p.method == StippleMethod::Random, rng)});
+                            one_colour(w, h, image.luma(), p.a, p.b, p.method == StippleMethod::Random, rng, progress)});
       break;
     }
     case StippleMethod::Negative: {
@@ -84,11 +98,11 @@ StippleResult stipple_pixels(const Image& image, const StippleParams& p) {
       auto inv = image.luma();
       for (auto& v : inv) v = static_cast<uint8_t>(255 - v);
       out.paper = colors::black;
-      out.layers.push_back({Pen{"white", colors::white, 0.3}, one_colour(w, h, inv, p.a, p.b, false, rng)});
+      out.layers.push_back({Pen{"white", colors::white, 0.3}, one_colour(w, h, inv, p.a, p.b, false, rng, progress)});
       break;
     }
     case StippleMethod::Binary: {
-      auto r = binary(w, h, image.luma(), p, rng);
+      auto r = binary(w, h, image.luma(), p, rng, progress);
       out.paper = kGreyPaper;
       out.layers.push_back({Pen{"black", colors::black, 0.3}, std::move(r.black)});
       out.layers.push_back({Pen{"white", colors::white, 0.3}, std::move(r.white)});
@@ -101,7 +115,7 @@ StippleResult stipple_pixels(const Image& image, const StippleParams& p) {
       std::vector<uint8_t> state(image.pixels() * 3, 128);
       std::vector<uint8_t> any(image.pixels(), 0);
       for (int c = 0; c < 3; ++c) {
-        auto r = binary(w, h, image.plane(c), p, rng);
+        auto r = binary(w, h, image.plane(c), p, rng, part(progress, c, 3));
         for (uint32_t i : r.black) state[size_t{i} * 3 + static_cast<size_t>(c)] = 0, any[i] = 1;
         for (uint32_t i : r.white) state[size_t{i} * 3 + static_cast<size_t>(c)] = 255, any[i] = 1;
       }
@@ -127,7 +141,9 @@ StippleResult stipple_pixels(const Image& image, const StippleParams& p) {
     case StippleMethod::Cmyk: {
       // Ink subtracts light, so plot a separation: K = 1 - max(R,G,B) with grey
       // component replacement, C = (1 - R - K)/(1 - K) etc. Each ink's coverage is
-      // stippled as a dark-is-dense grey image 255*(1 - coverage).
+      // stippled as a dark-is-dense grey image 255*(1 - coverage). Unlike the paper's
+      // one-ink methods, paper that needs none of an ink gets none of its dots (below
+      // 2% coverage), or every light area would be speckled with all four inks.
       const size_t n = image.pixels();
       std::array<std::vector<uint8_t>, 4> cov;
       for (auto& v : cov) v.resize(n);
@@ -144,7 +160,7 @@ StippleResult stipple_pixels(const Image& image, const StippleParams& p) {
                                   {"yellow", {255, 221, 0}, 0.3},
                                   {"black", colors::black, 0.3}};
       for (int c = 0; c < 4; ++c)
-        out.layers.push_back({pens[c], one_colour(w, h, cov[static_cast<size_t>(c)], p.a, p.b, false, rng)});
+        out.layers.push_back({pens[c], one_colour(w, h, cov[static_cast<size_t>(c)], p.a, p.b, false, rng, part(progress, c, 4), 250)});
       break;
     }
   }
@@ -169,9 +185,10 @@ Drawing place_stipple(const StippleResult& r, const Placement& placement) {
   return dr;
 }
 
-Drawing stipple(const Image& image, const StippleParams& params, const Placement& placement) {
+Drawing stipple(const Image& image, const StippleParams& params, const Placement& placement,
+                const std::function<void(double)>& progress) {
   placement.validate();
-  return place_stipple(stipple_pixels(image, params), placement);
+  return place_stipple(stipple_pixels(image, params, progress), placement);
 }
 
 }  // namespace stipplot

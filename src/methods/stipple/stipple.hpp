@@ -3,6 +3,7 @@
 // random order, grayscale order, negative, binary, RGB colour (the paper's 27
 // colours) and a CMYK ink separation for plotting.
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -41,10 +42,13 @@ struct StippleResult {
 // The method proper, in pixel space. Time O(n) for ordering plus the sampling's
 // O(n * (r_max/g + 2)^2 * c) grid queries (n pixels, g grid cell, c cell capacity);
 // colour/CMYK run three or four channels.
-StippleResult stipple_pixels(const Image& image, const StippleParams& params);
+// `progress` (optional) receives the fraction done; it never changes the result.
+StippleResult stipple_pixels(const Image& image, const StippleParams& params,
+                             const std::function<void(double)>& progress = {});
 
 // Pure function from image + parameters to a Drawing: stipple_pixels placed on the page.
-Drawing stipple(const Image& image, const StippleParams& params, const Placement& placement);
+Drawing stipple(const Image& image, const StippleParams& params, const Placement& placement,
+                const std::function<void(double)>& progress = {});
 
 // Lays pixel-space dots on the page as pen dots.
 Drawing place_stipple(const StippleResult& r, const Placement& placement);

@@ -1,0 +1,95 @@
+// stipplot export: a drawing from an SVG (ours or anyone's) planned for a device and
+// written as G-code, HPGL, or an SVG of the planned order.
+#include <memory>
+#include <sstream>
+
+#include "cli/commands.hpp"
+#include "cli/common.hpp"
+#include "cli/plan_options.hpp"
+#include "preview/preview.hpp"
+#include "svg_reader.hpp"
+#include "util/atomic_file.hpp"
+#include "util/error.hpp"
+
+namespace stipplot::cli {
+
+namespace {
+struct ExportArgs {
+  std::string input, output, preview;
+  std::string profile = "grbl-servo";
+  PlanArgs plan;
+  double tolerance = 0.05;
+  double pen_width = 0.3;
+  bool show_travel = false;
+  bool json = false, quiet = false;
+};
+}  // namespace
+
+void register_export(CLI::App& app) {
+  auto args = std::make_shared<ExportArgs>();
+  CLI::App* cmd = app.add_subcommand("export", "Plan an SVG drawing for a plotter and write G-code, HPGL or planned SVG");
+  cmd->footer(
+      "The SVG can come from stipplot or any drawing program: paths, lines, polylines, polygons,\n"
+      "rects, circles and ellipses; Inkscape layers (or stroke colours) become pens; curves are\n"
+      "flattened within --tolerance. Layers labelled '%...' and hidden content are skipped.\n"
+      "To export an image, run a method with -o x.gcode / -o x.hpgl directly.\n"
+      "Examples:\n"
+      "  stipplot export drawing.svg --profile grbl-servo -o drawing.gcode\n"
+      "  stipplot export drawing.svg --profile hp7475a-a4 -o drawing.hpgl --optimize-seconds 5\n"
+      "  stipplot export drawing.svg -o planned.svg --show-travel");
+  cmd->add_option("input", args->input, "Input SVG")->required();
+  cmd->add_option("-o,--output", args->output, "Output: .gcode, .hpgl, or .svg (the planned order)")->required()->group("Output");
+  cmd->add_option("--profile", args->profile, "Device profile NAME or PATH (see `stipplot profiles`)")
+      ->capture_default_str()->group("Output");
+  cmd->add_flag("--show-travel", args->show_travel, "Planned SVG: add the pen-up travel as a hidden layer")->group("Output");
+  cmd->add_option("--preview", args->preview, "Also write a preview PNG of the drawing as read")->group("Output");
+  cmd->add_flag("--json", args->json, "Print a one-line JSON summary instead of prose")->group("Output");
+  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success")->group("Output");
+  cmd->add_option("--tolerance", args->tolerance, "Curve flattening tolerance in mm")->capture_default_str()->group("Input");
+  cmd->add_option("--pen-width", args->pen_width, "Pen width in mm where the SVG gives no stroke width")
+      ->capture_default_str()->group("Input");
+  add_plan_options(cmd, args->plan);
+  cmd->callback([args] {
+    auto t0 = std::chrono::steady_clock::now();
+    ExportArgs& a = *args;
+    require_range("--tolerance", a.tolerance, 1e-4, 10);
+    require_range("--pen-width", a.pen_width, 0.01, 20);
+    (void)output_kind(a.output);
+    (void)a.plan.resolve();
+    require_writable_dir(a.output);
+    if (!a.preview.empty()) require_writable_dir(a.preview);
+    SvgReadOptions ro;
+    ro.tolerance_mm = a.tolerance;
+    ro.default_pen_width_mm = a.pen_width;
+    Drawing d = read_svg(a.input, ro);
+    if (d.primitive_count() == 0) throw UserError(a.input + ": nothing to plot (no visible shapes)");
+    double read_s = seconds_since(t0);
+    nlohmann::json s;
+    s["command"] = "export";
+    s["input"] = a.input;
+    s["page_mm"] = {d.page.width_mm, d.page.height_mm};
+    s["primitives"] = d.primitive_count();
+    s["seconds_read"] = read_s;
+    write_planned_output(d, a.output, a.profile, a.plan, a.show_travel, s);
+    if (!a.preview.empty()) {
+      write_preview_png(d, a.preview, PreviewOptions{});
+      s["preview"] = a.preview;
+    }
+    s["seconds"] = seconds_since(t0);
+    if (a.json) {
+      std::printf("%s\n", s.dump().c_str());
+    } else if (!a.quiet) {
+      const auto& total = s["plan"]["total"];
+      std::ostringstream h;
+      h.precision(1);
+      h << std::fixed << "wrote " << a.output << " for " << s["profile"].get<std::string>() << ": "
+        << d.layers.size() << (d.layers.size() == 1 ? " layer, " : " layers, ") << total.value("strokes", size_t{0})
+        << " strokes, pen down " << total.value("pen_down_mm", 0.0) / 1000 << " m, pen up "
+        << total.value("pen_up_mm", 0.0) / 1000 << " m, about " << total.value("seconds", 0.0) / 60
+        << " min to plot (" << s["seconds"].get<double>() << " s)";
+      std::printf("%s\n", h.str().c_str());
+    }
+  });
+}
+
+}  // namespace stipplot::cli

@@ -1,0 +1,21 @@
+#pragma once
+// Options of every command that plans a drawing for a plotter (export, -o x.gcode,
+// plot), so --optimize-seconds and --fill mean the same everywhere.
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "plan/planner.hpp"
+
+namespace stipplot::cli {
+
+struct PlanArgs {
+  double optimize_seconds = 2.0;
+  std::string fill = "spiral";
+  double join_tolerance = 0.05;
+  PlanOptions resolve() const;  // throws UserError naming the option
+};
+
+// Adds --optimize-seconds, --fill and --join-tolerance in a "Planning" group.
+void add_plan_options(CLI::App* cmd, PlanArgs& a);
+
+}  // namespace stipplot::cli

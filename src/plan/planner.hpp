@@ -1,0 +1,45 @@
+#pragma once
+// The planner: from a Drawing (whatever method made it) to a Plan, the pen's
+// strokes in plot order, layer by layer, with as little pen-up travel as the time
+// budget allows.
+#include <string>
+
+#include "geometry/drawing.hpp"
+#include "plan/plan.hpp"
+#include "plan/strokes.hpp"
+
+namespace stipplot {
+
+struct PlanOptions {
+  // Improvement budget (2-opt/Or-opt) for the whole drawing, shared among layers by
+  // their size; 0 = greedy construction only. Without hitting it the plan is
+  // deterministic.
+  double optimize_seconds = 2.0;
+  double join_tolerance_mm = 0.05;  // polyline ends closer than this are one vertex
+  plan::FillMode fill = plan::FillMode::Spiral;
+  double fill_pitch = 0.9;          // fill passes this fraction of the pen width apart
+  double chord_tolerance_mm = 0.01; // circles drawn as polygons within this
+  int neighbors = 10;               // 2-opt/Or-opt candidates per point
+  Vec2 origin{0, 0};                // where the pen starts
+  void validate() const;            // UserError naming the option
+};
+
+// Per layer, in the given order (empty layers are kept, so layer i is still pen i):
+// dots of at most the pen width become pen touches and larger ones filled circles;
+// polylines are joined through shared ends into the fewest strokes their graph allows
+// (a tree's segments: half its odd-degree vertices); circles are outlined or filled;
+// then all of the layer's strokes are ordered as an open travelling-salesman path
+// (each stroke in either direction) from where the previous layer ended.
+// Time: O(P + n log n) to build strokes and the greedy tour (P points, n strokes),
+// then the improvement under the time budget (see plan/tour.hpp).
+Plan plan_drawing(const Drawing& d, const PlanOptions& opt);
+
+// How planning went, for --json reports and benchmarks.
+struct PlanInfo {
+  double seconds = 0;        // wall time of plan_drawing
+  bool budget_hit = false;   // some layer stopped improving at its time budget
+  long improving_moves = 0;  // 2-opt + Or-opt moves applied
+};
+Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info);
+
+}  // namespace stipplot

@@ -1,0 +1,277 @@
+#include "plan/strokes.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "plan/kdtree.hpp"
+#include "util/error.hpp"
+
+namespace stipplot::plan {
+
+namespace {
+
+// Merges points closer than `tol` into shared vertices by hashing on a grid of
+// cell size tol; each lookup scans the 3x3 cells around the point.
+class VertexSnap {
+ public:
+  explicit VertexSnap(double tol) : tol_(tol), cell_(std::max(tol, 1e-9)) {}
+  uint32_t id(Vec2 p) {
+    const int64_t cx = static_cast<int64_t>(std::floor(p.x / cell_));
+    const int64_t cy = static_cast<int64_t>(std::floor(p.y / cell_));
+    uint32_t best = UINT32_MAX;
+    double best_d2 = tol_ * tol_;
+    for (int64_t dy = -1; dy <= 1; ++dy)
+      for (int64_t dx = -1; dx <= 1; ++dx) {
+        auto it = cells_.find(key(cx + dx, cy + dy));
+        if (it == cells_.end()) continue;
+        for (uint32_t v : it->second) {
+          double ex = pts[v].x - p.x, ey = pts[v].y - p.y, d2 = ex * ex + ey * ey;
+          if (d2 <= best_d2 && (best == UINT32_MAX || d2 < best_d2 || v < best)) best = v, best_d2 = d2;
+        }
+      }
+    if (best != UINT32_MAX) return best;
+    pts.push_back(p);
+    cells_[key(cx, cy)].push_back(static_cast<uint32_t>(pts.size() - 1));
+    return static_cast<uint32_t>(pts.size() - 1);
+  }
+  std::vector<Vec2> pts;
+
+ private:
+  static uint64_t key(int64_t x, int64_t y) {
+    return (static_cast<uint64_t>(x) * 0x9E3779B97F4A7C15ULL) ^ static_cast<uint64_t>(y);
+  }
+  double tol_, cell_;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+};
+
+void append_points(Stroke& s, const std::vector<Vec2>& pts, bool reversed) {
+  const size_t n = pts.size();
+  for (size_t k = 0; k < n; ++k) {
+    const Vec2& p = reversed ? pts[n - 1 - k] : pts[k];
+    if (!s.pts.empty() && s.pts.back() == p) continue;
+    s.pts.push_back(p);
+  }
+}
+
+}  // namespace
+
+std::vector<Stroke> join_polylines(const std::vector<Polyline>& lines, double tolerance) {
+  std::vector<Stroke> out;
+  VertexSnap snap(tolerance);
+  struct GEdge {
+    uint32_t u, v;
+    int32_t line;  // -1: virtual (pen-up) edge pairing two odd vertices
+  };
+  std::vector<GEdge> edges;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const auto& pts = lines[i].pts;
+    if (pts.empty()) continue;
+    if (pts.size() == 1) {
+      out.push_back({{pts[0]}});
+      continue;
+    }
+    uint32_t u = snap.id(pts.front());
+    uint32_t v = snap.id(pts.back());
+    edges.push_back({u, v, static_cast<int32_t>(i)});
+  }
+  const uint32_t nv = static_cast<uint32_t>(snap.pts.size());
+  if (edges.empty()) return out;
+
+  std::vector<uint32_t> degree(nv, 0);
+  for (const auto& e : edges) ++degree[e.u], ++degree[e.v];
+  // Pair odd vertices nearest-first with virtual edges. Any pairing inside a
+  // component makes it Eulerian; pairs across components would merge them, so the
+  // pairing runs per component.
+  std::vector<uint32_t> comp(nv);
+  {
+    std::vector<uint32_t> parent(nv);
+    for (uint32_t i = 0; i < nv; ++i) parent[i] = i;
+    auto find = [&](uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (const auto& e : edges) {
+      uint32_t a = find(e.u), b = find(e.v);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+    for (uint32_t i = 0; i < nv; ++i) comp[i] = find(i);
+  }
+  std::unordered_map<uint32_t, std::vector<uint32_t>> odd_by_comp;
+  std::vector<uint32_t> comp_order;  // components in first-seen order, for determinism
+  for (uint32_t v = 0; v < nv; ++v) {
+    if (degree[v] % 2 == 0) continue;
+    auto& list = odd_by_comp[comp[v]];
+    if (list.empty()) comp_order.push_back(comp[v]);
+    list.push_back(v);
+  }
+  std::unordered_set<uint32_t> paired;
+  for (uint32_t c : comp_order) {
+    const auto& odd = odd_by_comp[c];
+    std::vector<Vec2> p(odd.size());
+    for (size_t k = 0; k < odd.size(); ++k) p[k] = snap.pts[odd[k]];
+    KdTree tree(p);
+    for (uint32_t k = 0; k < odd.size(); ++k) {
+      if (tree.alive() == 0) break;
+      if (paired.count(k)) continue;
+      tree.erase(k);
+      const uint32_t b = tree.nearest_alive(p[k]);
+      tree.erase(b);
+      paired.insert(b);
+      edges.push_back({odd[k], odd[b], -1});
+    }
+    paired.clear();
+  }
+
+  // Adjacency in CSR form.
+  std::vector<uint32_t> start(nv + 1, 0);
+  for (const auto& e : edges) ++start[e.u + 1], ++start[e.v + 1];
+  for (uint32_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<uint32_t> adj(start[nv]), fill(start.begin(), start.end() - 1);
+  for (uint32_t i = 0; i < edges.size(); ++i) {
+    adj[fill[edges[i].u]++] = i;
+    adj[fill[edges[i].v]++] = i;
+  }
+  std::vector<uint32_t> next_edge(start.begin(), start.end() - 1);
+  std::vector<uint8_t> used(edges.size(), 0), visited(nv, 0);
+
+  struct Step {
+    uint32_t edge;
+    bool forward;  // traversed u -> v
+  };
+  std::vector<std::pair<uint32_t, int64_t>> stack;  // vertex, arriving step (edge*2+dir) or -1
+  std::vector<Step> circuit;
+  for (uint32_t root = 0; root < nv; ++root) {
+    if (visited[root] || start[root] == start[root + 1]) continue;
+    // Hierholzer: walk depth-first until stuck, emit edges while backtracking.
+    circuit.clear();
+    stack.assign(1, {root, -1});
+    while (!stack.empty()) {
+      const uint32_t v = stack.back().first;
+      visited[v] = 1;
+      uint32_t& k = next_edge[v];
+      while (k < start[v + 1] && used[adj[k]]) ++k;
+      if (k < start[v + 1]) {
+        const uint32_t e = adj[k];
+        used[e] = 1;
+        const bool fwd = edges[e].u == v;
+        const uint32_t w = fwd ? edges[e].v : edges[e].u;
+        stack.push_back({w, static_cast<int64_t>(e) * 2 + (fwd ? 1 : 0)});
+      } else {
+        if (stack.back().second >= 0)
+          circuit.push_back({static_cast<uint32_t>(stack.back().second / 2), (stack.back().second & 1) != 0});
+        stack.pop_back();
+      }
+    }
+    std::reverse(circuit.begin(), circuit.end());
+    // Cut at virtual edges: start right after one, if any.
+    size_t first = 0;
+    for (size_t k = 0; k < circuit.size(); ++k)
+      if (edges[circuit[k].edge].line < 0) {
+        first = k + 1;
+        break;
+      }
+    Stroke cur;
+    for (size_t s = 0; s < circuit.size(); ++s) {
+      const Step& st = circuit[(first + s) % circuit.size()];
+      const GEdge& e = edges[st.edge];
+      if (e.line < 0) {
+        if (!cur.pts.empty()) out.push_back(std::move(cur));
+        cur = Stroke{};
+        continue;
+      }
+      append_points(cur, lines[static_cast<size_t>(e.line)].pts, !st.forward);
+    }
+    if (!cur.pts.empty()) out.push_back(std::move(cur));
+  }
+  return out;
+}
+
+FillMode parse_fill_mode(const std::string& name) {
+  if (name == "spiral") return FillMode::Spiral;
+  if (name == "hatch") return FillMode::Hatch;
+  if (name == "none") return FillMode::None;
+  throw UserError("--fill must be spiral, hatch or none (got '" + name + "')");
+}
+
+const char* to_string(FillMode m) {
+  switch (m) {
+    case FillMode::Spiral: return "spiral";
+    case FillMode::Hatch: return "hatch";
+    case FillMode::None: return "none";
+  }
+  return "?";
+}
+
+namespace {
+// Largest angle step whose chord stays within `tol` of an arc of radius r.
+double angle_step(double r, double tol) {
+  if (r <= tol) return std::numbers::pi / 4;
+  return std::min(std::numbers::pi / 4, 2 * std::acos(1 - tol / r));
+}
+}  // namespace
+
+Stroke circle_outline(Vec2 c, double r, double chord_tolerance, double start_angle) {
+  const double two_pi = 2 * std::numbers::pi;
+  const int n = std::max(8, static_cast<int>(std::ceil(two_pi / angle_step(r, chord_tolerance))));
+  Stroke s;
+  s.pts.reserve(n + 1);
+  for (int k = 0; k <= n; ++k) {
+    const double a = start_angle + two_pi * (k == n ? 0 : k) / n;
+    s.pts.push_back({c.x + r * std::cos(a), c.y + r * std::sin(a)});
+  }
+  return s;
+}
+
+Stroke circle_stroke(const Circle& circle, const FillOptions& opt) {
+  const double w = opt.pen_width;
+  if (2 * circle.r <= w) return Stroke{{circle.c}};
+  if (!circle.filled) return circle_outline(circle.c, circle.r, opt.chord_tolerance);
+  const double R = circle.r - w / 2;  // centre line of the outermost pass
+  if (opt.mode == FillMode::None) return circle_outline(circle.c, R, opt.chord_tolerance);
+  const double max_pitch = opt.pitch_fraction * w;
+  const double passes = std::ceil(R / max_pitch) * (opt.mode == FillMode::Hatch ? 2 : 1);
+  const double per_pass = opt.mode == FillMode::Hatch ? 2 : 2 * std::numbers::pi / angle_step(R, opt.chord_tolerance);
+  if (passes * per_pass > 2e7)
+    throw UserError("a filled circle of radius " + std::to_string(circle.r) + " mm needs too many fill passes at pen width " +
+                    std::to_string(w) + " mm");
+  const Vec2 c = circle.c;
+  Stroke s;
+  if (opt.mode == FillMode::Spiral) {
+    const int turns = std::max(1, static_cast<int>(std::ceil(R / max_pitch)));
+    const double pitch = R / turns;
+    const double theta_end = 2 * std::numbers::pi * turns;
+    double theta = 0;
+    while (true) {
+      const double rho = pitch * theta / (2 * std::numbers::pi);
+      s.pts.push_back({c.x + rho * std::cos(theta), c.y + rho * std::sin(theta)});
+      if (theta >= theta_end) break;
+      theta = std::min(theta_end, theta + angle_step(std::max(rho, pitch), opt.chord_tolerance));
+    }
+    // The spiral ends at angle 0 (a whole number of turns) on radius R: close with
+    // the outline from there.
+    Stroke ring = circle_outline(c, R, opt.chord_tolerance, 0);
+    s.pts.insert(s.pts.end(), ring.pts.begin() + 1, ring.pts.end());
+    return s;
+  }
+  // Hatch: horizontal chords of the radius-R disc, joined in a zigzag along the rim.
+  const int gaps = std::max(1, static_cast<int>(std::ceil(2 * R / max_pitch)));
+  const double step = 2 * R / gaps;
+  for (int k = 0; k <= gaps; ++k) {
+    const double y = -R + k * step;
+    const double half = std::sqrt(std::max(0.0, R * R - y * y));
+    const bool left_to_right = k % 2 == 0;
+    Vec2 a{c.x - half, c.y + y}, b{c.x + half, c.y + y};
+    if (!left_to_right) std::swap(a, b);
+    if (s.pts.empty() || !(s.pts.back() == a)) s.pts.push_back(a);
+    if (!(b == a)) s.pts.push_back(b);
+  }
+  // The last chord ends on the rim at y = +R (angle pi/2): go round from there.
+  Stroke ring = circle_outline(c, R, opt.chord_tolerance, std::numbers::pi / 2);
+  s.pts.insert(s.pts.end(), ring.pts.begin() + 1, ring.pts.end());
+  return s;
+}
+
+}  // namespace stipplot::plan

@@ -1,0 +1,36 @@
+#pragma once
+// Reads an SVG that someone drew elsewhere into a Drawing, so it can be planned and
+// plotted like a method's output.
+//  - Shapes: path (M L H V C S Q T A Z, absolute and relative), line, polyline, polygon,
+//    rect (with rx/ry), circle, ellipse. Curves and arcs are flattened to polylines within
+//    `tolerance_mm` measured on the page (after all transforms).
+//  - Nested transforms: matrix, translate, scale, rotate(a [cx cy]), skewX, skewY.
+//  - Units: the root's width/height (mm, cm, in, pt, pc, px at 96/in) with its viewBox
+//    (preserveAspectRatio none or the default xMidYMid meet) give the page in mm.
+//  - Layers: an Inkscape layer (g with inkscape:groupmode="layer", outermost one wins)
+//    becomes a pen layer named by its label (a leading "N " pen number is dropped);
+//    shapes outside any layer are grouped into pen layers by stroke colour (fill if no
+//    stroke). display:none, visibility:hidden and layers labelled "%..." are skipped.
+//  - A filled, unstroked circle no wider than the stroke width in effect becomes a Dot
+//    (one pen touch, as stipplot's own SVG writes its dots); other circles stay circles
+//    when the transform keeps them round.
+// Malformed input (XML errors, bad path data, bad numbers or transforms) throws UserError
+// naming the file, the XML line and the element.
+#include <string>
+
+#include "geometry/drawing.hpp"
+
+namespace stipplot {
+
+struct SvgReadOptions {
+  double tolerance_mm = 0.05;          // max distance of a flattened curve from the true one
+  double default_pen_width_mm = 0.3;   // when the SVG gives no stroke width
+};
+
+// O(elements + output points); the flattening adds points in proportion to
+// sqrt(curve size / tolerance) per curve.
+Drawing read_svg(const std::string& path, const SvgReadOptions& opt = {});
+// `name` is used in error messages.
+Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt = {});
+
+}  // namespace stipplot

@@ -1,0 +1,38 @@
+// `stipplot profiles` through the real executable.
+#include <catch2/catch.hpp>
+
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+namespace {
+std::string run(const std::string& args, int& status) {
+  std::string cmd = std::string(STIPPLOT_BIN) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  REQUIRE(p);
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  status = pclose(p);
+  return out;
+}
+}  // namespace
+
+TEST_CASE("stipplot profiles lists every shipped profile, name first", "[profiles][cli]") {
+  int status = 0;
+  std::string out = run("profiles", status);
+  CHECK(status == 0);
+  std::istringstream in(out);
+  std::string line;
+  std::vector<std::string> names;
+  while (std::getline(in, line)) names.push_back(line.substr(0, line.find(' ')));
+  CHECK(names == std::vector<std::string>{"grbl-laser", "grbl-servo", "grbl-z", "hp7475a-a3", "hp7475a-a4",
+                                          "roland-dxy1300"});
+  out = run("profiles --json", status);
+  CHECK(status == 0);
+  CHECK(out.find("\"name\":\"hp7475a-a4\"") != std::string::npos);
+  out = run("profiles --show no-such-device", status);
+  CHECK(status != 0);
+  CHECK(out.find("no such profile") != std::string::npos);
+}
