@@ -23,6 +23,7 @@ struct SketchArgs {
   std::string lighten = "auto";
   std::string preview_style = "paper";
   std::string sampler = "lds";
+  std::string hsi_black = "paper";
   bool measure = false;
   double blur_cells = 2;
   sketch::SketchParams p;
@@ -61,6 +62,10 @@ void register_sketch(CLI::App& app) {
                   "auto|on|off: where the pixel is brighter than the pen, lighten its marks in the preview and thin "
                   "them in the plot (auto: on for hsi)")
       ->capture_default_str()->group("Strokes");
+  cmd->add_option("--hsi-black", args->hsi_black,
+                  "hsi black pen: paper (exp(-5 s), HSI saturation) or chroma (exp(-5 (max-min)), hue pens give way; "
+                  "fixes dark tinted areas)")
+      ->capture_default_str()->group("Sketch");
   cmd->add_option("--sampler", args->sampler,
                   "lds: points at a low-discrepancy sequence (even, as Secord); random: independent draws (clumpy)")
       ->capture_default_str()->group("Sketch");
@@ -87,6 +92,7 @@ void register_sketch(CLI::App& app) {
     a.p.cell = a.cell == "auto" ? Length{0, false} : Length::parse(a.cell, "--cell");
     if (a.cell != "auto" && a.p.cell.value <= 0) throw UserError("--cell must be > 0 (or auto)");
     a.p.lighten = sketch::parse_lighten(a.lighten);
+    a.p.hsi_black = sketch::parse_hsi_black(a.hsi_black);
     if (a.sampler != "lds" && a.sampler != "random")
       throw UserError("--sampler: expected lds or random, got '" + a.sampler + "'");
     a.p.sampler = a.sampler == "lds" ? sketch::SketchParams::Sampler::LowDiscrepancy : sketch::SketchParams::Sampler::Random;

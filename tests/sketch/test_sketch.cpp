@@ -165,6 +165,22 @@ TEST_CASE("rgb probabilities are the paper's: p = max(0, (d - D)/d)", "[sketch]"
   }
 }
 
+TEST_CASE("hsi black: the paper's saturation misses dark tinted pixels, chroma does not", "[sketch]") {
+  SketchParams p;
+  p.space = ColorSpace::Hsi;
+  const auto pens = builtin_pens(ColorSpace::Hsi, 0.3);  // green 2, black 6
+  const Image dark = patches({Color{10, 25, 12}}, 1);     // a near-black sky with a green tint
+  auto paper = pen_probabilities(dark, p, pens);
+  CHECK(paper[6][0] < 0.2f);   // HSI saturation 0.36: black loses...
+  CHECK(paper[2][0] > 0.8f);   // ...to a strong green (hue 8 degrees off the pen's)
+  p.hsi_black = HsiBlack::Chroma;
+  auto chroma = pen_probabilities(dark, p, pens);
+  CHECK(chroma[6][0] == Approx(std::exp(-5.0 * 15 / 255)).epsilon(1e-5));
+  CHECK(chroma[2][0] == Approx((1 - chroma[6][0]) * paper[2][0]).epsilon(1e-5));
+  CHECK(chroma[6][0] > chroma[2][0]);
+  CHECK_THROWS_AS(parse_hsi_black("lab"), UserError);
+}
+
 TEST_CASE("strokes run across the gradient, longer and thicker where it is strong", "[sketch]") {
   SketchParams p;
   p.cell = Length{1, true};
@@ -227,7 +243,10 @@ TEST_CASE("lightening: paper preview lightens, the plot thins in proportion", "[
     for (const auto& s : strokes) plotted += s.plotted;
     const double t = im->rgb[0] / 255.0;
     CHECK(strokes[0].lighten == Approx(t).epsilon(1e-5));
-    CHECK(static_cast<double>(plotted) / strokes.size() == Approx(1 - t).margin(0.03));
+    // p = 1 (capped): lambda = 4 marks per cell; keep k so that 1 - exp(-4k) = (1 - t)(1 - exp(-4))
+    const double pc = -std::expm1(-4.0), k = std::log1p(-(1 - t) * pc) / std::log1p(-pc);
+    CHECK(static_cast<double>(plotted) / strokes.size() == Approx(k).margin(0.02));
+    CHECK(k < 1 - t);
     // hue pens get nothing on grey
     for (size_t c = 0; c + 1 < r.pens.size(); ++c) CHECK(r.pens[c].strokes.empty());
   }
@@ -293,6 +312,11 @@ TEST_CASE("sketch: bad parameters are rejected naming the option", "[sketch]") {
   bad([](SketchParams& q) { q.reach = -1; }, "--reach");
   bad([](SketchParams& q) { q.space = ColorSpace::Pens; }, "--pens");
   CHECK_THROWS_AS(parse_color_space("cmyk"), UserError);
+  // a grid or stroke count beyond reason is refused up front, naming --cell
+  SketchParams tiny_cells;
+  tiny_cells.cell = Length{0.001, false};
+  Image black = patches({Color{0, 0, 0}}, 8);
+  CHECK_THROWS_WITH(sketch_strokes(black, tiny_cells, Placement{}), Catch::Contains("--cell"));
   CHECK_THROWS_AS(parse_lighten("maybe"), UserError);
 }
 
@@ -400,7 +424,8 @@ TEST_CASE("CIEDE2000 matches Sharma, Wu & Dalal (2005) Table 1", "[sketch][color
 
 TEST_CASE("colour fidelity: the rgb pens beat a one-pen black sketch (mean dE00, blurred)", "[sketch][color]") {
   const Image img = load_image(std::string(STIPPLOT_SOURCE_DIR) + "/examples/coffee.png");
-  Placement pl;
+  Placement pl;  // A5: a smaller sketch, same method, keeps the test quick
+  pl.page = {148, 210};
   pl.landscape = true;
   auto measure = [&](const SketchParams& p) {
     SketchResult r = sketch_strokes(img, p, pl);
@@ -427,7 +452,7 @@ TEST_CASE("sketch CLI: both spaces and a palette, one layer per pen, bad input r
   const std::string pal = std::string(STIPPLOT_SOURCE_DIR) + "/examples/pens/fineliner12.toml";
   for (const std::string& mode : std::vector<std::string>{"--space rgb", "--space hsi", "--pens " + pal}) {
     auto r = test::run_cli("sketch " + img + " " + mode + " -o " + t.file("o.svg") + " --preview " + t.file("p.png") +
-                           " --measure --json");
+                           " --page 120x90mm --preview-dpi 100 --measure --json");
     INFO(mode << ": " << r.err);
     REQUIRE(r.exit_code == 0);
     auto j = nlohmann::json::parse(r.out);

@@ -32,6 +32,12 @@ Lighten parse_lighten(const std::string& name) {
   throw UserError("--lighten: expected auto, on or off, got '" + name + "'");
 }
 
+HsiBlack parse_hsi_black(const std::string& name) {
+  if (name == "paper") return HsiBlack::Paper;
+  if (name == "chroma") return HsiBlack::Chroma;
+  throw UserError("--hsi-black: expected paper or chroma, got '" + name + "'");
+}
+
 PreviewStyle parse_preview_style(const std::string& name) {
   if (name == "paper") return PreviewStyle::Paper;
   if (name == "plot") return PreviewStyle::Plot;
@@ -151,6 +157,19 @@ Image resize_to(const Image& im, int w, int h) {
   return out;
 }
 
+// Thinning for the plot: the share of a pen's marks to keep in a cell so that its ink
+// covers (1 - t) of what it would cover unthinned. With marks falling independently at
+// lambda = -ln(1 - p) per cell (one mark's ink = one cell's area, see auto_cell_mm), the
+// covered share is 1 - exp(-lambda k) for a kept share k, so
+//   k = -ln(1 - (1 - t) p) / -ln(1 - p),
+// which is 1 - t for small p ("in proportion") and much less where marks pile up.
+double keep_share(double p, double t) {
+  p = std::clamp(p, 0.0, max_probability());
+  t = std::clamp(t, 0.0, 1.0);
+  if (p <= 1e-12) return 1 - t;
+  return std::log1p(-(1 - t) * p) / std::log1p(-p);
+}
+
 double smoothstep(double lo, double hi, double v) {
   const double t = std::clamp((v - lo) / (hi - lo), 0.0, 1.0);
   return t * t * (3 - 2 * t);
@@ -166,16 +185,20 @@ std::vector<std::vector<float>> pen_probabilities(const Image& grid, const Sketc
     const double r = kPi / 3;
     std::vector<double> pen_hue(pens.size());
     for (size_t c = 0; c < pens.size(); ++c) pen_hue[c] = pens[c].name == "black" ? -1 : hue_of_pen(pens[c].color);
+    const bool chroma = params.hsi_black == HsiBlack::Chroma;
     for (size_t i = 0; i < n; ++i) {
+      const double R = grid.rgb[3 * i] / 255.0, G = grid.rgb[3 * i + 1] / 255.0, B = grid.rgb[3 * i + 2] / 255.0;
       double hue, sat;
-      hsi(grid.rgb[3 * i] / 255.0, grid.rgb[3 * i + 1] / 255.0, grid.rgb[3 * i + 2] / 255.0, hue, sat);
+      hsi(R, G, B, hue, sat);
+      const double black = chroma ? std::exp(-5.0 * (std::max({R, G, B}) - std::min({R, G, B}))) : std::exp(-5.0 * sat);
+      const double hue_scale = chroma ? 1.0 - black : 1.0;
       for (size_t c = 0; c < pens.size(); ++c) {
         if (pen_hue[c] < 0) {
-          p[c][i] = static_cast<float>(std::exp(-5.0 * sat));
+          p[c][i] = static_cast<float>(black);
         } else if (hue >= 0) {
           double dth = std::abs(hue - pen_hue[c]);
           dth = std::min(dth, 2 * kPi - dth);
-          p[c][i] = static_cast<float>(std::max(0.0, (r - dth) / r));
+          p[c][i] = static_cast<float>(hue_scale * std::max(0.0, (r - dth) / r));
         }
       }
     }
@@ -237,8 +260,8 @@ SketchResult sketch_strokes(const Image& image, const SketchParams& params, cons
   const double cell_px = cell_mm / mm_per_px;
   const double gw_d = std::max(1.0, std::round(image.width / cell_px));
   const double gh_d = std::max(1.0, std::round(image.height / cell_px));
-  if (gw_d * gh_d > 50e6)
-    throw UserError("--cell " + std::to_string(cell_mm) + " mm gives a sampling grid of more than 50 million cells; use a larger --cell");
+  if (gw_d * gh_d > 20e6)
+    throw UserError("--cell " + std::to_string(cell_mm) + " mm gives a sampling grid of more than 20 million cells; use a larger --cell");
   SketchResult r;
   r.page = Page{T.page_w(), T.page_h(), colors::white};
   r.grid_w = static_cast<int>(gw_d);
@@ -252,10 +275,17 @@ SketchResult sketch_strokes(const Image& image, const SketchParams& params, cons
   const double hatch = params.hatch_deg * kPi / 180;
   const double hx = std::cos(hatch), hy = -std::sin(hatch);  // y down on the page
 
+  // Solve every pen first so an absurd stroke count is refused before any allocation.
+  std::vector<PointCount> counts(pens.size());
+  double total_points = 0;
+  for (size_t c = 0; c < pens.size(); ++c) total_points += (counts[c] = solve_point_count(prob[c])).m;
+  if (total_points > 10e6)
+    throw UserError("the sketch would have " + std::to_string(static_cast<long long>(total_points)) +
+                    " strokes (more than 10 million); use a larger --cell");
   for (size_t c = 0; c < pens.size(); ++c) {
     PenStrokes ps;
     ps.pen = pens[c];
-    const PointCount pc = solve_point_count(prob[c]);
+    const PointCount& pc = counts[c];
     ps.m = pc.m;
     ps.degenerate = pc.degenerate;
     const auto q = densities(prob[c], pc);
@@ -286,7 +316,7 @@ SketchResult sketch_strokes(const Image& image, const SketchParams& params, cons
       if (lighten) {
         const double y = luma01(grid.rgb[3 * i], grid.rgb[3 * i + 1], grid.rgb[3 * i + 2]) / 255.0;
         st.lighten = pen_luma < 1 ? static_cast<float>(std::max(0.0, (y - pen_luma) / (1 - pen_luma))) : 0.0f;
-        st.plotted = thin.uniform() >= st.lighten;
+        st.plotted = thin.uniform() < keep_share(prob[c][i], st.lighten);
       }
       const Vec2 ctr = T.map(pt.x * sx, pt.y * sy);
       const double nx = -dy, ny = dx;

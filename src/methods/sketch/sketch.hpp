@@ -13,9 +13,12 @@
 //  - pens (a user palette): the RGB distance model, which works for any pen colours. Each
 //    pen's reach d is the distance to its nearest other pen, capped at sqrt(3)/2 (this
 //    gives the paper's d for R, G, B, Y, M, C), or --reach for all pens.
+// (--hsi-black chroma: see HsiBlack.)
 // Lightening (where the pixel is brighter than the pen, t = (Y_pixel - Y_pen)/(1 - Y_pen)
 // in Rec. 601 luma): the paper's preview draws the mark lightened toward white by t; ink
-// cannot be lightened, so for plotting a mark is dropped with probability t.
+// cannot be lightened, so for plotting the pen's marks are thinned so that its ink covers
+// (1 - t) of what it would (keep share k = ln(1 - (1-t) p) / ln(1 - p): 1 - t where
+// marks are sparse, fewer where they overlap).
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -31,6 +34,13 @@ ColorSpace parse_color_space(const std::string& name);  // "rgb" | "hsi"; UserEr
 const char* to_string(ColorSpace s);
 
 enum class Lighten { Auto, On, Off };  // auto: on for hsi (as the paper), off otherwise
+
+// The HSI black pen: the paper's exp(-5 s) with the HSI saturation s (which is large for
+// dark, slightly tinted pixels, so black goes missing there, as the paper reports), or
+// an extension: exp(-5 c) with the chroma c = max - min of R, G, B (small for every
+// dark pixel), and the hue pens scaled by (1 - p_black) so they give way to it.
+enum class HsiBlack { Paper, Chroma };
+HsiBlack parse_hsi_black(const std::string& name);
 Lighten parse_lighten(const std::string& name);
 
 struct SketchParams {
@@ -45,6 +55,7 @@ struct SketchParams {
   int max_passes = 3;             // parallel passes of a stroke at the strongest edges
   double hatch_deg = 45;          // direction of flat marks, degrees counter-clockwise from +x
   Lighten lighten = Lighten::Auto;
+  HsiBlack hsi_black = HsiBlack::Paper;
   // How points are drawn from q: the R2 low-discrepancy sequence (Secord's way) or
   // independent random draws (for comparison; also the benchmark's baseline).
   enum class Sampler { LowDiscrepancy, Random } sampler = Sampler::LowDiscrepancy;
