@@ -65,7 +65,14 @@ class GcodeEmitter {
       if (li > 0) {
         pen_up(false);
         // grbl prints "(MSG,...)" as [MSG:...] and waits at M0 until cycle start (~).
-        emit("M0 (MSG,Change pen: " + label + ", then resume)");
+        // G-code comments do not nest and grbl's line buffer holds 80 characters, so
+        // the message carries no parentheses and is kept short.
+        std::string msg = "Change pen: layer " + std::to_string(li + 1) + " " + layer.pen.name + " " +
+                          layer.pen.color.hex();
+        for (char& ch : msg)
+          if (ch == '(' || ch == ')') ch = ' ';
+        if (msg.size() > 60) msg.resize(60);
+        emit("M0 (MSG," + msg + ")");
       } else if (opt_.comments) {
         comment(label);
       }
