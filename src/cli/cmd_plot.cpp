@@ -306,9 +306,9 @@ void register_plot(CLI::App& app) {
         Page page;
         page.width_mm = ps.width_mm;
         page.height_mm = ps.height_mm;
-        drawn = sim::record_to_drawing(rec, page, upm, 0.3, grbl ? 0 : ps.height_mm);
+        drawn = sim::record_to_drawing(rec, page, upm, 0.3, dev.y_up ? ps.height_mm : 0);
       } else {
-        drawn = sim::record_to_fitted_drawing(rec, upm, !grbl);  // HPGL's y grows upwards
+        drawn = sim::record_to_fitted_drawing(rec, upm, dev.y_up);  // shown as it lies on the paper
       }
       sim::write_drawing_png_svg(drawn, prefix + ".png", prefix + ".svg");
       s["sim_png"] = prefix + ".png";

@@ -66,6 +66,8 @@ PlotDevice plot_device(const std::string& name) {
   d.travel_x = p.travel_x_mm;
   d.travel_y = p.travel_y_mm;
   d.units_per_mm = p.units_per_mm;
+  const bool bottom = p.origin == Origin::bottom_left;
+  d.y_up = bottom == (p.y_sign > 0);
   return d;
 }
 

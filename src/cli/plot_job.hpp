@@ -30,6 +30,7 @@ struct PlotDevice {
   MotionParams motion;
   double travel_x = 300, travel_y = 300;
   double units_per_mm = 40;     // HPGL
+  bool y_up = true;             // machine +Y points up the page (grbl positive space, HPGL)
 };
 PlotDevice plot_device(const std::string& profile);
 
