@@ -180,6 +180,8 @@ DeviceProfile parse_table(const toml::table& root, const std::string& file) {
     m.pen_lift_s = s.number("pen_lift_s", 0, 10);
     m.pen_drop_s = s.number("pen_drop_s", 0, 10);
     m.lookahead_blocks = s.integer("lookahead_blocks", 1, 10000);
+    // Optional: older profiles without it change pens by hand (no machine time).
+    m.pen_change_s = s.has("pen_change_s") ? s.number("pen_change_s", 0, 3600) : 0;
     s.finish();
   }
   {

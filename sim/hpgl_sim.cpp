@@ -198,7 +198,7 @@ void HpglSim::start_next(double t) {
   } else if (mn == "SP") {
     if (nums.size() > 1) error_ = 2;
     pen_down_ = false;
-    dur += 1.0;  // the carousel turns
+    dur += m.pen_change_s > 0 ? m.pen_change_s : 1.0;  // the carousel turns
   } else if (mn == "PU" || mn == "PD" || mn == "PA" || mn == "PR") {
     if (nums.size() % 2) error_ = 2;
     if (mn == "PU") pen_down_ = false;
@@ -209,7 +209,10 @@ void HpglSim::start_next(double t) {
     for (size_t k = 0; k + 1 < nums.size(); k += 2) {
       double nx = absolute_ ? nums[k] : cx + nums[k], ny = absolute_ ? nums[k + 1] : cy + nums[k + 1];
       double len = std::hypot(nx - cx, ny - cy) / cfg_.units_per_mm;
-      dur += move_time(len, pen_down_ ? vs_mm_s_ : m.speed_up_mm_s, m.accel_mm_s2);
+      // Each axis has its own motor and acceleration limit, so a diagonal move may
+      // accelerate faster along its path (the planner's model too).
+      double umax = len > 0 ? std::max(std::fabs(nx - cx), std::fabs(ny - cy)) / cfg_.units_per_mm / len : 1;
+      dur += move_time(len, pen_down_ ? vs_mm_s_ : m.speed_up_mm_s, m.accel_mm_s2 / std::max(umax, 1e-9));
       pending_moves_.push_back({nx, ny});
       cx = nx, cy = ny;
     }

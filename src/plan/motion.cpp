@@ -13,6 +13,7 @@ void validate(const MotionParams& m) {
   require_range("speed_up_mm_s", m.speed_up_mm_s, 1e-3, 1e5);
   require_range("accel_mm_s2", m.accel_mm_s2, 1e-3, 1e7);
   require_range("junction_deviation_mm", m.junction_deviation_mm, 0, 100);
+  require_range("pen_change_s", m.pen_change_s, 0, 3600);
   require_range("pen_lift_s", m.pen_lift_s, 0, 60);
   require_range("pen_drop_s", m.pen_drop_s, 0, 60);
   require_range("lookahead_blocks", m.lookahead_blocks, 1, 10000);
@@ -101,6 +102,7 @@ MotionTimeline simulate_motion(const Plan& plan, const MotionParams& m, Vec2 ori
   std::vector<Vec2> travel(2);
   for (uint32_t li = 0; li < plan.layers.size(); ++li) {
     const double layer_t0 = t;
+    t += m.pen_change_s;  // take up this layer's pen
     for (const Stroke& s : plan.layers[li].strokes) {
       if (s.pts.empty()) continue;
       travel[0] = pos;
@@ -115,6 +117,7 @@ MotionTimeline simulate_motion(const Plan& plan, const MotionParams& m, Vec2 ori
     }
     tl.layer_seconds.push_back(t - layer_t0);
   }
+  if (!plan.layers.empty()) t += m.pen_change_s;  // put the last pen away
   if (return_home) {
     travel[0] = pos;
     travel[1] = origin;

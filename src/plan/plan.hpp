@@ -33,6 +33,9 @@ struct MotionParams {
   double pen_lift_s = 0.15;      // time for the pen to go up
   double pen_drop_s = 0.15;      // time for the pen to come down
   int lookahead_blocks = 15;     // planner buffer (grbl: 15 blocks on a 328p)
+  // Machine time to take up a pen (an HPGL carousel's SP), charged for every pen
+  // selected and for putting the last one away; 0 where a person changes pens (M0).
+  double pen_change_s = 0;
 };
 
 }  // namespace stipplot

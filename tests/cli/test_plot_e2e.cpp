@@ -39,3 +39,24 @@ TEST_CASE("a stipple job plots on the simulated HPGL plotter", "[cli][plot][e2e]
   CHECK(j["completed"] == true);
   CHECK(j["sim_exact"] == true);
 }
+
+TEST_CASE("the simulator's plotted time is within 5% of the planner's estimate", "[cli][plot][e2e][timing]") {
+  struct Case {
+    const char* profile;
+    const char* ext;
+    const char* speedup;
+  };
+  for (const Case& c : {Case{"grbl-servo", "gcode", "10"}, Case{"hp7475a-a4", "hpgl", "20"}}) {
+    test::TempDir t;
+    const std::string job = t.file(std::string("job.") + c.ext);
+    auto e = test::run_cli("export " + example("foreign.svg") + " --profile " + c.profile + " -o " + job + " --json");
+    REQUIRE(e.exit_code == 0);
+    const double estimate = last_json_line(e.out)["plan"]["total"]["seconds"].get<double>();
+    auto r = test::run_cli("plot " + job + " --profile " + c.profile + " --sim --sim-speedup " + c.speedup + " --json -q");
+    INFO(c.profile << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    const double simulated = last_json_line(r.out)["sim_plot_s"].get<double>();
+    INFO(c.profile << " estimate " << estimate << " s, simulated " << simulated << " s");
+    CHECK(std::abs(simulated / estimate - 1) < 0.05);
+  }
+}
