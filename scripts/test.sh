@@ -6,5 +6,6 @@ cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DSTIPPLOT_WERROR=ON
 (cd build && ctest --output-on-failure -j "$(nproc)")
-bash scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSTIPPLOT_WERROR=ON -DSTIPPLOT_SANITIZE=ON -DSTIPPLOT_BENCH=OFF
+# -O1 -g1: what the sanitizers recommend, and far quicker to build than -O2 -g.
+bash scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" -DSTIPPLOT_WERROR=ON -DSTIPPLOT_SANITIZE=ON -DSTIPPLOT_BENCH=OFF
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j "$(nproc)")
