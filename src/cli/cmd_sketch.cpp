@@ -6,7 +6,7 @@
 #include "cli/common.hpp"
 #include "eval/fidelity.hpp"
 #include "methods/palette.hpp"
-#include "methods/sketch/color_fidelity.hpp"
+#include "eval/color_difference.hpp"
 #include "methods/sketch/sketch.hpp"
 #include "preview/preview.hpp"
 #include "util/error.hpp"
@@ -136,7 +136,7 @@ void register_sketch(CLI::App& app) {
         const PageTransform T = placement.transform(img.width, img.height);
         Image crop = crop_to_image(preview, T, img.width, img.height);
         const double sigma = a.blur_cells * r.cell_mm / T.mm_per_px();
-        s["delta_e00"] = sketch::mean_delta_e00_blurred(img, crop, sigma);
+        s["delta_e00"] = mean_delta_e00_blurred(img, crop, sigma);
         s["blur_sigma_px"] = sigma;
       }
     }

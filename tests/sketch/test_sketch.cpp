@@ -10,7 +10,7 @@
 #include "eval/fidelity.hpp"
 #include "image/image.hpp"
 #include "methods/palette.hpp"
-#include "methods/sketch/color_fidelity.hpp"
+#include "eval/color_difference.hpp"
 #include "methods/sketch/sketch.hpp"
 #include "test_util.hpp"
 #include "util/error.hpp"

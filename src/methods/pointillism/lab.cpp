@@ -34,8 +34,6 @@ double f_inv(double f) {
   return f3 > kEps ? f3 : (116 * f - 16) / kKappa;
 }
 
-double deg(double rad) { return rad * 180.0 / M_PI; }
-double rad(double d) { return d * M_PI / 180.0; }
 
 }  // namespace
 
@@ -100,46 +98,5 @@ double max_chroma(double L, double hue, double tol) {
   return lo;
 }
 
-double delta_e00(const Lab& x, const Lab& y) {
-  const double C1ab = std::hypot(x.a, x.b), C2ab = std::hypot(y.a, y.b);
-  const double Cbar = (C1ab + C2ab) / 2;
-  const double Cbar7 = std::pow(Cbar, 7);
-  const double G = 0.5 * (1 - std::sqrt(Cbar7 / (Cbar7 + 6103515625.0)));  // 25^7
-  const double a1 = (1 + G) * x.a, a2 = (1 + G) * y.a;
-  const double C1 = std::hypot(a1, x.b), C2 = std::hypot(a2, y.b);
-  // Hue angles in degrees in [0, 360); zero chroma has hue 0 by convention.
-  auto hue = [](double b, double a) {
-    if (a == 0 && b == 0) return 0.0;
-    double h = deg(std::atan2(b, a));
-    return h < 0 ? h + 360 : h;
-  };
-  const double h1 = hue(x.b, a1), h2 = hue(y.b, a2);
-  const double dL = y.L - x.L, dC = C2 - C1;
-  double dh = 0;
-  if (C1 * C2 != 0) {
-    dh = h2 - h1;
-    if (dh > 180) dh -= 360;
-    else if (dh < -180) dh += 360;
-  }
-  const double dH = 2 * std::sqrt(C1 * C2) * std::sin(rad(dh / 2));
-  const double Lbar = (x.L + y.L) / 2, Cpbar = (C1 + C2) / 2;
-  double hbar = h1 + h2;
-  if (C1 * C2 != 0) {
-    if (std::abs(h1 - h2) > 180) hbar += hbar < 360 ? 360 : -360;
-    hbar /= 2;
-  }
-  const double T = 1 - 0.17 * std::cos(rad(hbar - 30)) + 0.24 * std::cos(rad(2 * hbar)) +
-                   0.32 * std::cos(rad(3 * hbar + 6)) - 0.20 * std::cos(rad(4 * hbar - 63));
-  const double dtheta = 30 * std::exp(-std::pow((hbar - 275) / 25, 2));
-  const double Cp7 = std::pow(Cpbar, 7);
-  const double RC = 2 * std::sqrt(Cp7 / (Cp7 + 6103515625.0));
-  const double L50 = (Lbar - 50) * (Lbar - 50);
-  const double SL = 1 + 0.015 * L50 / std::sqrt(20 + L50);
-  const double SC = 1 + 0.045 * Cpbar;
-  const double SH = 1 + 0.015 * Cpbar * T;
-  const double RT = -std::sin(rad(2 * dtheta)) * RC;
-  const double tL = dL / SL, tC = dC / SC, tH = dH / SH;
-  return std::sqrt(tL * tL + tC * tC + tH * tH + RT * tC * tH);
-}
 
 }  // namespace stipplot::lab

@@ -3,13 +3,12 @@
 // the sRGB gamut along a hue ray, and the CIEDE2000 colour difference.
 // Bulk image conversion goes through OpenCV (cvtColor); these are for single colours
 // (dots, pens) and must agree with it to well under one ΔE.
+#include "eval/color_difference.hpp"
 #include "geometry/color.hpp"
 
 namespace stipplot::lab {
 
-struct Lab {
-  double L = 0, a = 0, b = 0;
-};
+using Lab = stipplot::Lab;
 
 // sRGB (gamma-encoded, 8 bits) → L*a*b*. O(1).
 Lab from_srgb(Color c);
@@ -29,6 +28,6 @@ double max_chroma(double L, double hue, double tol = 1e-3);
 // CIEDE2000 (CIE 142-2001; kL = kC = kH = 1), following the implementation notes of
 // Sharma, Wu and Dalal (Color Res. Appl. 30(1), 2005), including their conventions
 // for zero chroma and for the mean hue across the 0/360 boundary. O(1).
-double delta_e00(const Lab& x, const Lab& y);
+inline double delta_e00(const Lab& x, const Lab& y) { return stipplot::ciede2000(x, y); }
 
 }  // namespace stipplot::lab

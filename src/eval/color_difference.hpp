@@ -1,9 +1,10 @@
 #pragma once
-// Colour fidelity of a sketch: mean CIEDE2000 difference between the blurred drawing and
-// the blurred input (blurring first compares tones and colours, not individual strokes).
+// Colour difference: CIEDE2000, and colour fidelity as the mean CIEDE2000 between the
+// blurred drawing and the blurred input (blurring first compares tones and colours, not
+// individual strokes). Shared by the colour methods (sketch, pointillism).
 #include "image/image.hpp"
 
-namespace stipplot::sketch {
+namespace stipplot {
 
 struct Lab {
   double L = 0, a = 0, b = 0;
@@ -20,4 +21,4 @@ double ciede2000(const Lab& x, const Lab& y);
 // O(pixels of both images).
 double mean_delta_e00_blurred(const Image& input, const Image& drawn, double sigma_px);
 
-}  // namespace stipplot::sketch
+}  // namespace stipplot

@@ -1,11 +1,11 @@
-#include "methods/sketch/color_fidelity.hpp"
+#include "eval/color_difference.hpp"
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
 #include "util/error.hpp"
 
-namespace stipplot::sketch {
+namespace stipplot {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -92,4 +92,4 @@ double mean_delta_e00_blurred(const Image& input, const Image& drawn, double sig
   return total / static_cast<double>(la.total());
 }
 
-}  // namespace stipplot::sketch
+}  // namespace stipplot
