@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "svg_writer.hpp"
+#include "xml_output.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
 
@@ -129,21 +130,11 @@ void write(const Plan& plan, tinyxml2::XMLPrinter& p, const PlannedSvgOptions& o
 }  // namespace
 
 std::string planned_svg_string(const Plan& plan, const PlannedSvgOptions& opt) {
-  tinyxml2::XMLPrinter p;
-  write(plan, p, opt);
-  return std::string(p.CStr(), static_cast<size_t>(p.CStrSize() > 0 ? p.CStrSize() - 1 : 0));
+  return xml_to_string([&](tinyxml2::XMLPrinter& p) { write(plan, p, opt); });
 }
 
 void write_planned_svg(const Plan& plan, const std::string& path, const PlannedSvgOptions& opt) {
-  AtomicFile out(path);
-  {
-    std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(out.temp_path().c_str(), "wb"), &std::fclose);
-    if (!f) throw UserError("cannot write " + path);
-    tinyxml2::XMLPrinter p(f.get());
-    write(plan, p, opt);
-    if (std::ferror(f.get()) || std::fflush(f.get()) != 0) throw UserError("cannot write " + path + " (disk full?)");
-  }
-  out.commit();
+  xml_to_file_atomic(path, [&](tinyxml2::XMLPrinter& p) { write(plan, p, opt); });
 }
 
 }  // namespace stipplot

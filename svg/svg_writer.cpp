@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "xml_output.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
 
@@ -115,21 +116,11 @@ void write(const Drawing& d, tinyxml2::XMLPrinter& p, const SvgOptions& opt) {
 }  // namespace
 
 std::string svg_string(const Drawing& drawing, const SvgOptions& opt) {
-  tinyxml2::XMLPrinter p;
-  write(drawing, p, opt);
-  return std::string(p.CStr(), static_cast<size_t>(p.CStrSize() > 0 ? p.CStrSize() - 1 : 0));
+  return xml_to_string([&](tinyxml2::XMLPrinter& p) { write(drawing, p, opt); });
 }
 
 void write_svg(const Drawing& drawing, const std::string& path, const SvgOptions& opt) {
-  AtomicFile out(path);
-  {
-    std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(out.temp_path().c_str(), "wb"), &std::fclose);
-    if (!f) throw UserError("cannot write " + path);
-    tinyxml2::XMLPrinter p(f.get());
-    write(drawing, p, opt);
-    if (std::ferror(f.get()) || std::fflush(f.get()) != 0) throw UserError("cannot write " + path + " (disk full?)");
-  }
-  out.commit();
+  xml_to_file_atomic(path, [&](tinyxml2::XMLPrinter& p) { write(drawing, p, opt); });
 }
 
 }  // namespace stipplot
