@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -52,6 +53,19 @@ inline RunResult run_cli(const std::string& args) {
   r.out = slurp(t.file("out"));
   r.err = slurp(t.file("err"));
   return r;
+}
+
+// Runs the CLI with stdout and stderr merged; `status` is pclose's raw status.
+inline std::string run_cli_merged(const std::string& args, int& status) {
+  std::string cmd = std::string(STIPPLOT_BIN) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) throw std::runtime_error("cannot run " + cmd);
+  std::string out;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
+  status = pclose(p);
+  return out;
 }
 
 inline std::string read_file(const std::string& p) {

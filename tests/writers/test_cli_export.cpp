@@ -1,6 +1,8 @@
 // `stipplot export` and the methods' `-o x.gcode / x.hpgl` through the real executable.
 #include <catch2/catch.hpp>
 
+#include "test_util.hpp"
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,17 +12,7 @@
 namespace fs = std::filesystem;
 
 namespace {
-std::string run(const std::string& args, int& status) {
-  std::string cmd = std::string(STIPPLOT_BIN) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p);
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  status = pclose(p);
-  return out;
-}
+std::string run(const std::string& args, int& status) { return test::run_cli_merged(args, status); }
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);

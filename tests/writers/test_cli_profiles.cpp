@@ -1,22 +1,14 @@
 // `stipplot profiles` through the real executable.
 #include <catch2/catch.hpp>
 
+#include "test_util.hpp"
+
 #include <cstdio>
 #include <sstream>
 #include <string>
 
 namespace {
-std::string run(const std::string& args, int& status) {
-  std::string cmd = std::string(STIPPLOT_BIN) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  REQUIRE(p);
-  std::string out;
-  char buf[4096];
-  size_t n;
-  while ((n = fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  status = pclose(p);
-  return out;
-}
+std::string run(const std::string& args, int& status) { return test::run_cli_merged(args, status); }
 }  // namespace
 
 TEST_CASE("stipplot profiles lists every shipped profile, name first", "[profiles][cli]") {
