@@ -13,7 +13,7 @@
 #include "image/image.hpp"
 #include "methods/pointillism/pointillism.hpp"
 #include "methods/stipple/pds.hpp"
-#include "svg_writer.hpp"
+#include "svg/svg_writer.hpp"
 
 using namespace stipplot;
 

@@ -12,7 +12,7 @@
 #include "methods/sketch/sketch.hpp"
 #include "preview/preview.hpp"
 #include "ratio_reporter.hpp"
-#include "svg_writer.hpp"
+#include "svg/svg_writer.hpp"
 #include "util/rng.hpp"
 
 namespace {

@@ -13,11 +13,11 @@
 #include <filesystem>
 #include <string>
 
-#include "gcode/gcode_writer.hpp"
-#include "hpgl/hpgl_writer.hpp"
-#include "planned_svg.hpp"
-#include "profile.hpp"
-#include "svg_reader.hpp"
+#include "drivers/gcode/gcode_writer.hpp"
+#include "drivers/hpgl/hpgl_writer.hpp"
+#include "svg/planned_svg.hpp"
+#include "drivers/profile.hpp"
+#include "svg/svg_reader.hpp"
 #include "util/rng.hpp"
 
 using namespace stipplot;

@@ -1,4 +1,4 @@
-#include "machine.hpp"
+#include "drivers/machine.hpp"
 
 #include <cmath>
 #include <cstdio>

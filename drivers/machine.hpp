@@ -10,7 +10,7 @@
 
 #include "geometry/drawing.hpp"
 #include "plan/plan.hpp"
-#include "profile.hpp"
+#include "drivers/profile.hpp"
 
 namespace stipplot {
 

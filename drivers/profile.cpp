@@ -1,4 +1,4 @@
-#include "profile.hpp"
+#include "drivers/profile.hpp"
 
 #include <unistd.h>
 

@@ -4,7 +4,7 @@
 #include <map>
 
 #include "preview/preview.hpp"
-#include "svg_writer.hpp"
+#include "svg/svg_writer.hpp"
 
 namespace stipplot::sim {
 

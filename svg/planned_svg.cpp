@@ -1,12 +1,12 @@
-#include "planned_svg.hpp"
+#include "svg/planned_svg.hpp"
 
 #include <tinyxml2.h>
 
 #include <cstdio>
 #include <memory>
 
-#include "svg_writer.hpp"
-#include "xml_output.hpp"
+#include "svg/svg_writer.hpp"
+#include "svg/xml_output.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
 

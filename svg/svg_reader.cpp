@@ -1,4 +1,4 @@
-#include "svg_reader.hpp"
+#include "svg/svg_reader.hpp"
 
 #include <tinyxml2.h>
 

@@ -1,4 +1,4 @@
-#include "svg_writer.hpp"
+#include "svg/svg_writer.hpp"
 
 #include <tinyxml2.h>
 
@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "xml_output.hpp"
+#include "svg/xml_output.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
 

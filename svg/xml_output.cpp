@@ -1,4 +1,4 @@
-#include "xml_output.hpp"
+#include "svg/xml_output.hpp"
 
 #include <cstdio>
 #include <memory>

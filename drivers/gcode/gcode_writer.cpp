@@ -1,4 +1,4 @@
-#include "gcode/gcode_writer.hpp"
+#include "drivers/gcode/gcode_writer.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "hpgl/hpgl_writer.hpp"
+#include "drivers/hpgl/hpgl_writer.hpp"
 
 #include <algorithm>
 #include <cmath>

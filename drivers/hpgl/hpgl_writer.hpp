@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "machine.hpp"
+#include "drivers/machine.hpp"
 
 namespace stipplot {
 

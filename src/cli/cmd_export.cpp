@@ -7,7 +7,7 @@
 #include "cli/common.hpp"
 #include "cli/plan_options.hpp"
 #include "preview/preview.hpp"
-#include "svg_reader.hpp"
+#include "svg/svg_reader.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
 

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
-#include "profile.hpp"
+#include "drivers/profile.hpp"
 #include "util/error.hpp"
 
 namespace stipplot::cli {

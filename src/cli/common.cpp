@@ -9,9 +9,9 @@
 #include "drivers/profile.hpp"
 #include "plan/planner.hpp"
 #include "plan/stats.hpp"
-#include "planned_svg.hpp"
+#include "svg/planned_svg.hpp"
 #include "preview/preview.hpp"
-#include "svg_writer.hpp"
+#include "svg/svg_writer.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
 

@@ -5,20 +5,11 @@
 
 #include "util/error.hpp"
 
-// With the planner and writers merged in, plot takes SVG drawings and profiles; on a
-// tree without them (the drivers branch alone) it plots .gcode/.hpgl jobs only.
-#if __has_include("plan/planner.hpp") && __has_include("drivers/profile.hpp") && \
-    __has_include("drivers/gcode/gcode_writer.hpp") && __has_include("svg_reader.hpp")
-#define STIPPLOT_PLOT_HAS_PLANNER 1
 #include "drivers/gcode/gcode_writer.hpp"
 #include "drivers/hpgl/hpgl_writer.hpp"
 #include "drivers/profile.hpp"
 #include "plan/planner.hpp"
-#include "svg_reader.hpp"
-#endif
-
-// Glue between `stipplot plot` and the planner / writers / profiles of the planner and
-// writers issue (plan/planner.hpp, drivers/profile.hpp, drivers/gcode, drivers/hpgl).
+#include "svg/svg_reader.hpp"
 
 namespace stipplot::cli {
 
@@ -39,7 +30,6 @@ io::Dialect dialect_of(const std::string& path) {
   return (e == ".hpgl" || e == ".plt" || e == ".hpg" || e == ".hgl") ? io::Dialect::Hpgl : io::Dialect::GCode;
 }
 
-#ifdef STIPPLOT_PLOT_HAS_PLANNER
 PlotDevice plot_device(const std::string& name) {
   PlotDevice d;
   if (name.empty()) return d;
@@ -88,17 +78,5 @@ PreparedJob prepare_job(const PlotJobRequest& r) {
   else write_gcode_file(plan, prof, path);
   return {path, hpgl ? io::Dialect::Hpgl : io::Dialect::GCode, prof.name};
 }
-#else
-PlotDevice plot_device(const std::string& profile) {
-  if (profile.empty()) return {};
-  throw UserError("--profile needs the device profiles (planner and writers issue); give --baud/--flow instead");
-}
-
-PreparedJob prepare_job(const PlotJobRequest& r) {
-  if (is_job_file(r.input)) return {r.input, dialect_of(r.input), r.profile};
-  throw UserError("plotting " + r.input +
-                  " needs the planner and the G-code/HPGL writers; give a .gcode or .hpgl job instead");
-}
-#endif
 
 }  // namespace stipplot::cli

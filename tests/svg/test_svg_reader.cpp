@@ -6,9 +6,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "planned_svg.hpp"
-#include "svg_reader.hpp"
-#include "svg_writer.hpp"
+#include "svg/planned_svg.hpp"
+#include "svg/svg_reader.hpp"
+#include "svg/svg_writer.hpp"
 #include "util/error.hpp"
 #include "writers/plan_fixtures.hpp"
 

@@ -2,7 +2,7 @@
 #include <tinyxml2.h>
 
 #include "methods/stipple/stipple.hpp"
-#include "svg_writer.hpp"
+#include "svg/svg_writer.hpp"
 #include "test_util.hpp"
 
 using namespace stipplot;

@@ -12,10 +12,10 @@
 #include <map>
 #include <sstream>
 
-#include "gcode/gcode_writer.hpp"
-#include "hpgl/hpgl_writer.hpp"
-#include "machine.hpp"
-#include "profile.hpp"
+#include "drivers/gcode/gcode_writer.hpp"
+#include "drivers/hpgl/hpgl_writer.hpp"
+#include "drivers/machine.hpp"
+#include "drivers/profile.hpp"
 #include "util/error.hpp"
 #include "writers/plan_fixtures.hpp"
 

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "profile.hpp"
+#include "drivers/profile.hpp"
 #include "util/error.hpp"
 
 using namespace stipplot;
