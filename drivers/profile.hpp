@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "geometry/drawing.hpp"
+#include "drivers/motion/motion_params.hpp"
 #include "plan/plan.hpp"
 
 namespace stipplot {

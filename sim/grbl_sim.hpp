@@ -11,7 +11,7 @@
 #include <optional>
 #include <string>
 
-#include "plan/plan.hpp"
+#include "drivers/motion/motion_params.hpp"
 #include "sim/device.hpp"
 
 namespace stipplot::sim {

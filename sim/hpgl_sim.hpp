@@ -7,7 +7,7 @@
 #include <deque>
 #include <string>
 
-#include "plan/plan.hpp"
+#include "drivers/motion/motion_params.hpp"
 #include "sim/device.hpp"
 
 namespace stipplot::sim {

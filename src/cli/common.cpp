@@ -8,7 +8,7 @@
 #include "drivers/machine.hpp"
 #include "drivers/profile.hpp"
 #include "plan/planner.hpp"
-#include "plan/stats.hpp"
+#include "drivers/motion/plan_stats.hpp"
 #include "svg/planned_svg.hpp"
 #include "preview/preview.hpp"
 #include "svg/svg_writer.hpp"

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "drivers/journal.hpp"
-#include "plan/plan.hpp"
+#include "drivers/motion/motion_params.hpp"
 
 namespace stipplot::cli {
 

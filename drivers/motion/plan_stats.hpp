@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "plan/motion.hpp"
+#include "drivers/motion/time_model.hpp"
 #include "plan/plan.hpp"
 
 namespace stipplot {

@@ -1,4 +1,4 @@
-#include "plan/motion.hpp"
+#include "drivers/motion/time_model.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,18 +6,7 @@
 
 #include "util/error.hpp"
 
-namespace stipplot::plan {
-
-void validate(const MotionParams& m) {
-  require_range("speed_down_mm_s", m.speed_down_mm_s, 1e-3, 1e5);
-  require_range("speed_up_mm_s", m.speed_up_mm_s, 1e-3, 1e5);
-  require_range("accel_mm_s2", m.accel_mm_s2, 1e-3, 1e7);
-  require_range("junction_deviation_mm", m.junction_deviation_mm, 0, 100);
-  require_range("pen_change_s", m.pen_change_s, 0, 3600);
-  require_range("pen_lift_s", m.pen_lift_s, 0, 60);
-  require_range("pen_drop_s", m.pen_drop_s, 0, 60);
-  require_range("lookahead_blocks", m.lookahead_blocks, 1, 10000);
-}
+namespace stipplot::motion {
 
 double axis_limited_accel(double accel, Vec2 u) {
   const double m = std::max(std::fabs(u.x), std::fabs(u.y));
@@ -131,4 +120,4 @@ MotionTimeline simulate_motion(const Plan& plan, const MotionParams& m, Vec2 ori
 
 double estimate_seconds(const Plan& plan, const MotionParams& m) { return simulate_motion(plan, m).total_seconds; }
 
-}  // namespace stipplot::plan
+}  // namespace stipplot::motion

@@ -2,11 +2,11 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "plan/motion.hpp"
+#include "drivers/motion/time_model.hpp"
 #include "util/error.hpp"
 
 using namespace stipplot;
-using namespace stipplot::plan;
+using namespace stipplot::motion;
 
 TEST_CASE("a straight move is a hand-computed trapezoid", "[motion]") {
   MotionParams m;

@@ -9,9 +9,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "drivers/motion/motion_params.hpp"
 #include "plan/plan.hpp"
 
-namespace stipplot::plan {
+namespace stipplot::motion {
 
 enum class BlockKind : uint8_t { Travel, Draw, PenDown, PenUp };
 
@@ -30,17 +31,14 @@ struct MotionTimeline {
   double total_seconds = 0;
 };
 
-// Walks the plan from `origin` (each layer starts where the previous ended; pen
-// changes themselves take no time here, the driver pauses for them).
+// Walks the plan from `origin` (each layer starts where the previous ended; each pen
+// taken up, and the last one put away, costs m.pen_change_s).
 // O(B * segments) for a look-ahead of B blocks.
 MotionTimeline simulate_motion(const Plan& plan, const MotionParams& m, Vec2 origin = {0, 0},
                                bool return_home = false, bool keep_blocks = false);
 
 // Total estimated seconds (no return home). Same cost as simulate_motion.
 double estimate_seconds(const Plan& plan, const MotionParams& m);
-
-// Checks the parameters (UserError naming the one that is wrong).
-void validate(const MotionParams& m);
 
 // --- building blocks, exposed for tests and the simulator ---
 
@@ -65,9 +63,9 @@ double polyline_seconds(const std::vector<Vec2>& pts, double vmax, const MotionP
                         std::vector<MotionBlock>* out = nullptr, BlockKind kind = BlockKind::Draw, uint32_t layer = 0,
                         double t0 = 0);
 
-}  // namespace stipplot::plan
+}  // namespace stipplot::motion
 
 namespace stipplot {
-using plan::estimate_seconds;
-using plan::simulate_motion;
+using motion::estimate_seconds;
+using motion::simulate_motion;
 }  // namespace stipplot

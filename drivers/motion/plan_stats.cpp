@@ -1,4 +1,4 @@
-#include "plan/stats.hpp"
+#include "drivers/motion/plan_stats.hpp"
 
 #include <cmath>
 
@@ -10,7 +10,7 @@ double dist(Vec2 a, Vec2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
 
 PlanStats plan_stats(const Plan& plan, const MotionParams& m, Vec2 origin, bool return_home) {
   PlanStats st;
-  const plan::MotionTimeline tl = plan::simulate_motion(plan, m, origin, return_home);
+  const motion::MotionTimeline tl = motion::simulate_motion(plan, m, origin, return_home);
   Vec2 pos = origin;
   st.total.pen = "total";
   for (size_t li = 0; li < plan.layers.size(); ++li) {
