@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "drivers/journal.hpp"
+#include "drivers/job/segments.hpp"
 #include "sim/link.hpp"
 
 namespace stipplot::sim {
@@ -47,23 +47,6 @@ struct SimStats {
   size_t bytes_in = 0;
   double plot_time() const { return busy_start < 0 ? 0 : busy_end - busy_start; }
   double starved_share() const { return plot_time() > 0 ? starved_s / plot_time() : 0; }
-};
-
-// Pen-down moves and touches, in the order drawn (same rules as io::job_segments).
-class PenRecorder {
- public:
-  void pen(bool down);
-  void move(double x, double y);
-  void set_pen_number(int n) { pen_no_ = n; }
-  bool down() const { return down_; }
-  double x() const { return x_; }
-  double y() const { return y_; }
-  std::vector<Segment> segments;
-
- private:
-  bool down_ = false, moved_ = false;
-  double x_ = 0, y_ = 0;
-  int pen_no_ = 1;
 };
 
 class SimDevice {
@@ -104,7 +87,7 @@ class SimDevice {
   void mark_paused();  // a hold or pause: idle time then is not starvation
 
   mutable std::mutex m_;  // guards rec_ and stats_ against readers on other threads
-  PenRecorder rec_;
+  io::PenTrace rec_;  // pen-down moves and touches, by the rules io::job_segments uses
   SimStats stats_;
   Faults faults_;
   LinkModel linkm_;

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "drivers/motion/motion_params.hpp"
+#include "drivers/job/gcode_reader.hpp"
 #include "sim/device.hpp"
 
 namespace stipplot::sim {

@@ -1,5 +1,7 @@
 #include "sim/hpgl_sim.hpp"
 
+#include "drivers/job/hpgl_reader.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -152,22 +154,7 @@ void HpglSim::start_next(double t) {
   }
   std::string params = buf_.substr(2, e - 2);
   if (!params.empty() && params.back() == ';') params.pop_back();
-  std::vector<double> nums;
-  {
-    std::string cur;
-    auto flush = [&] {
-      if (!cur.empty()) nums.push_back(std::strtod(cur.c_str(), nullptr));
-      cur.clear();
-    };
-    for (char c : params) {
-      if (is_sep(c)) flush();
-      else if ((c == '-' || c == '+') && !cur.empty()) {
-        flush();
-        cur.push_back(c);
-      } else cur.push_back(c);
-    }
-    flush();
-  }
+  const std::vector<double> nums = io::hpgl_numbers(params);
   long no = ++instr_seen_;
   {
     std::lock_guard lk(m_);

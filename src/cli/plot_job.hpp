@@ -4,7 +4,8 @@
 // profile (see plot_job.cpp).
 #include <string>
 
-#include "drivers/journal.hpp"
+#include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/job.hpp"
 #include "drivers/motion/motion_params.hpp"
 
 namespace stipplot::cli {

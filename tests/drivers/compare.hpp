@@ -6,7 +6,7 @@
 #include <tuple>
 #include <vector>
 
-#include "drivers/journal.hpp"
+#include "drivers/job/job.hpp"
 
 namespace testjob {
 

@@ -5,9 +5,12 @@
 #include <thread>
 
 #include "compare.hpp"
-#include "drivers/grbl/codes.hpp"
-#include "drivers/grbl/streamer.hpp"
-#include "drivers/journal.hpp"
+#include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/segments.hpp"
+#include "drivers/stream/grbl/codes.hpp"
+#include "drivers/stream/grbl/streamer.hpp"
+#include "drivers/stream/journal.hpp"
+#include "drivers/stream/resume.hpp"
 #include "drivers/transport/posix_serial.hpp"
 #include "jobgen.hpp"
 #include "sim/grbl_sim.hpp"
@@ -119,7 +122,7 @@ TEST_CASE("error:N stops the job naming the line and grbl's meaning, skip goes o
     try {
       st.stream(job, 0, {}, nullptr);
       FAIL("no error raised");
-    } catch (const grbl::DeviceError& e) {
+    } catch (const DeviceError& e) {
       CHECK(e.line() == 6);  // 0-based index of the 7th line
       CHECK(e.code() == 20);
       CHECK(std::string(e.what()).find("line 7") != std::string::npos);
@@ -148,7 +151,7 @@ TEST_CASE("ALARM stops, explains, and leaves the port usable", "[drivers][grbl][
   try {
     st.stream(job, 0, {}, nullptr);
     FAIL("no alarm raised");
-  } catch (const grbl::DeviceError& e) {
+  } catch (const DeviceError& e) {
     CHECK(e.alarm());
     CHECK(e.code() == 1);
     CHECK(std::string(e.what()).find("Hard limit") != std::string::npos);
@@ -172,7 +175,7 @@ TEST_CASE("soft limits raise ALARM:2, settings check refuses a job beyond them",
   try {
     st.stream(job, 0, {}, nullptr);
     FAIL("no alarm");
-  } catch (const grbl::DeviceError& e) {
+  } catch (const DeviceError& e) {
     CHECK(e.code() == 2);
     CHECK(std::string(e.what()).find("Soft limit") != std::string::npos);
   }

@@ -4,8 +4,12 @@
 #include <filesystem>
 
 #include "compare.hpp"
-#include "drivers/grbl/streamer.hpp"
-#include "drivers/hpgl/streamer.hpp"
+#include "drivers/job/hpgl_reader.hpp"
+#include "drivers/job/segments.hpp"
+#include "drivers/stream/device_error.hpp"
+#include "drivers/stream/hpgl/streamer.hpp"
+#include "drivers/stream/journal.hpp"
+#include "drivers/stream/resume.hpp"
 #include "drivers/transport/posix_serial.hpp"
 #include "jobgen.hpp"
 #include "sim/hpgl_sim.hpp"
@@ -99,7 +103,7 @@ TEST_CASE("without any handshake a fast host overfills the plotter (the simulato
   o.status_queries = true;
   hpgl::Streamer st2(port2, o);
   st2.connect();
-  CHECK_THROWS_AS(st2.stream(job, 0, {}, nullptr), grbl::DeviceError);
+  CHECK_THROWS_AS(st2.stream(job, 0, {}, nullptr), DeviceError);
   CHECK(sim2.stats().rx_overflow > 0);
 }
 
@@ -128,7 +132,7 @@ TEST_CASE("HPGL faults: lost and garbled replies are asked again, errors and not
     try {
       st.stream(job, 0, {}, nullptr);
       FAIL("no error");
-    } catch (const grbl::DeviceError& e) {
+    } catch (const DeviceError& e) {
       CHECK(e.code() == 1);
       CHECK(std::string(e.what()).find("instruction not recognized") != std::string::npos);
     }

@@ -1,4 +1,4 @@
-#include "drivers/grbl/streamer.hpp"
+#include "drivers/stream/grbl/streamer.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,7 +7,7 @@
 #include <deque>
 #include <thread>
 
-#include "drivers/grbl/codes.hpp"
+#include "drivers/stream/grbl/codes.hpp"
 
 namespace stipplot::io::grbl {
 

@@ -10,7 +10,9 @@
 #include <functional>
 #include <string>
 
-#include "drivers/journal.hpp"
+#include "drivers/job/job.hpp"
+#include "drivers/stream/journal.hpp"
+#include "drivers/stream/stream.hpp"
 #include "drivers/transport/transport.hpp"
 
 namespace stipplot::io::hpgl {

@@ -1,4 +1,4 @@
-#include "drivers/grbl/codes.hpp"
+#include "drivers/stream/grbl/codes.hpp"
 
 #include <map>
 

@@ -1,11 +1,11 @@
-#include "drivers/hpgl/streamer.hpp"
+#include "drivers/stream/hpgl/streamer.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <climits>
 #include <thread>
 
-#include "drivers/grbl/streamer.hpp"  // DeviceError
+#include "drivers/stream/device_error.hpp"
 
 namespace stipplot::io::hpgl {
 
@@ -150,7 +150,7 @@ StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<st
       auto since = clock::now();
       while (st & 16) {
         if (clock::now() - since > o_.not_ready_timeout)
-          throw grbl::DeviceError("the plotter is not ready (paper lever raised or view mode?) and stayed so for " +
+          throw DeviceError("the plotter is not ready (paper lever raised or view mode?) and stayed so for " +
                                       std::to_string(o_.not_ready_timeout.count() / 1000) + " s; resume when it is ready",
                                   res.last_acked, 16, true);
         std::this_thread::sleep_for(Millis(100));
@@ -161,7 +161,7 @@ StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<st
       // OE goes through the plotter's buffer: if that is stuck (lost bytes left an
       // unfinished instruction), OE would never be answered.
       if ((st & 32) && !(st & 8) && query('B') < buffer_ && final)
-        throw grbl::DeviceError("the plotter reports an error and its buffer holds an unfinished instruction "
+        throw DeviceError("the plotter reports an error and its buffer holds an unfinished instruction "
                                 "(bytes lost to a late XOFF or no handshake?); the job is incomplete",
                                 res.last_acked, 7, false);
       t_.write(o_.newline ? "OE;\n" : "OE;");
@@ -170,7 +170,7 @@ StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<st
         throw TransportError(TransportError::Kind::Timeout, "the plotter on " + t_.describe() + " does not answer OE");
       int code = std::atoi(r.c_str());
       if (code != 0)
-        throw grbl::DeviceError("the plotter reports HP-GL error " + std::to_string(code) + " (" + error_meaning(code) +
+        throw DeviceError("the plotter reports HP-GL error " + std::to_string(code) + " (" + error_meaning(code) +
                                     ") after line " + std::to_string(res.last_acked + 1),
                                 res.last_acked, code, false);
     }
@@ -237,7 +237,7 @@ StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<st
             last_free = free;
             since = clock::now();
           } else if (clock::now() - since > o_.not_ready_timeout) {
-            throw grbl::DeviceError("the plotter stopped taking data with " + std::to_string(buffer_ - free) +
+            throw DeviceError("the plotter stopped taking data with " + std::to_string(buffer_ - free) +
                                         " bytes in its buffer (bytes lost to a late XOFF?)",
                                     res.last_acked, 0, false);
           }
@@ -249,7 +249,7 @@ StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<st
   } catch (const TransportError&) {
     if (journal) journal->sync();
     throw;
-  } catch (const grbl::DeviceError&) {
+  } catch (const DeviceError&) {
     if (journal) journal->sync();
     throw;
   }

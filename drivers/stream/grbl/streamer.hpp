@@ -9,7 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "drivers/journal.hpp"
+#include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/job.hpp"
+#include "drivers/stream/device_error.hpp"
+#include "drivers/stream/journal.hpp"
+#include "drivers/stream/resume.hpp"
+#include "drivers/stream/stream.hpp"
 #include "drivers/transport/transport.hpp"
 
 namespace stipplot::io::grbl {
@@ -50,21 +55,6 @@ struct Expectations {
   bool laser = false;
 };
 Expectations expectations_for(const Job& job);
-
-// A line grbl rejected, or an alarm: the message names the line and grbl's meaning.
-class DeviceError : public UserError {
- public:
-  DeviceError(const std::string& msg, long line, int code, bool alarm)
-      : UserError(msg), line_(line), code_(code), alarm_(alarm) {}
-  long line() const { return line_; }
-  int code() const { return code_; }
-  bool alarm() const { return alarm_; }
-
- private:
-  long line_;
-  int code_;
-  bool alarm_;
-};
 
 class Streamer {
  public:
