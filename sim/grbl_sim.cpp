@@ -1,5 +1,7 @@
 #include "sim/grbl_sim.hpp"
 
+#include "drivers/device/pen_rule.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -43,6 +45,16 @@ std::string fmt3(double v) {
 }
 
 }  // namespace
+
+GrblSimConfig grbl_sim_config(const DeviceProfile& p) {
+  GrblSimConfig c;
+  c.motion = p.motion;
+  c.pen = gcode_pen_rule(p);
+  c.travel_x = p.machine.travel_x_mm;
+  c.travel_y = p.machine.travel_y_mm;
+  c.rx_buffer = p.serial.rx_buffer_bytes;
+  return c;
+}
 
 GrblSim::GrblSim(const GrblSimConfig& cfg) : SimDevice(cfg.speedup, cfg.link, cfg.faults), cfg_(cfg) {
   const MotionParams& m = cfg.motion;

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "drivers/motion/motion_params.hpp"
+#include "drivers/device/profile.hpp"
 #include "drivers/job/gcode_reader.hpp"
 #include "sim/device.hpp"
 
@@ -28,6 +29,10 @@ struct GrblSimConfig {
   LinkModel link;
   Faults faults;
 };
+
+// The simulator of the device a profile describes: its motion, pen rule, travel and RX
+// buffer (the link, speed-up and faults are left to the caller).
+GrblSimConfig grbl_sim_config(const DeviceProfile& p);
 
 class GrblSim final : public SimDevice {
  public:

@@ -21,6 +21,19 @@ double move_time(double len, double v, double a) {
 bool is_sep(char c) { return c == ';' || c == '\n' || c == '\r' || c == ' ' || c == '\t' || c == ','; }
 }  // namespace
 
+HpglSimConfig hpgl_sim_config(const DeviceProfile& p) {
+  HpglSimConfig c;
+  c.motion = p.motion;
+  c.units_per_mm = p.machine.units_per_mm;
+  if (p.serial.rx_buffer_bytes >= 64) c.buffer_bytes = p.serial.rx_buffer_bytes;
+  // XOFF must arrive before the host overfills the buffer: leave room for the bytes in
+  // flight (latency and the host's reaction, scaled by the speedup).
+  c.xoff_free = c.buffer_bytes * 3 / 8;
+  c.xon_free = c.buffer_bytes * 5 / 8;
+  c.xonxoff = p.hpgl.handshake == HpglHandshake::xonxoff;
+  return c;
+}
+
 HpglSim::HpglSim(const HpglSimConfig& cfg)
     : SimDevice(cfg.speedup, cfg.link, cfg.faults), cfg_(cfg), vs_mm_s_(cfg.motion.speed_down_mm_s) {
   if (cfg.buffer_bytes < 64) throw UserError("simulated HPGL plotter: buffer must be at least 64 bytes");

@@ -7,6 +7,7 @@
 #include <deque>
 #include <string>
 
+#include "drivers/device/profile.hpp"
 #include "drivers/motion/motion_params.hpp"
 #include "sim/device.hpp"
 
@@ -22,6 +23,10 @@ struct HpglSimConfig {
   LinkModel link;
   Faults faults;
 };
+
+// The simulator of the device a profile describes: its motion, plotter units, buffer
+// and handshake (the link, speed-up and faults are left to the caller).
+HpglSimConfig hpgl_sim_config(const DeviceProfile& p);
 
 class HpglSim final : public SimDevice {
  public:

@@ -16,6 +16,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/plot_job.hpp"
+#include "drivers/device/pen_rule.hpp"
 #include "drivers/job/gcode_reader.hpp"
 #include "drivers/job/hpgl_reader.hpp"
 #include "drivers/job/segments.hpp"
@@ -130,51 +131,40 @@ void register_plot(CLI::App& app) {
     std::string hash = hex(io::fnv1a64(text));
     if (resuming && resume_state.header.job_hash != hash)
       throw UserError("job " + pj.path + " changed since it was started (its journal belongs to another version)");
-    PlotDevice dev = plot_device(pj.profile.empty() ? A.profile : pj.profile);
-    io::Job job = pj.dialect == io::Dialect::Hpgl ? io::parse_hpgl_job(text) : io::parse_gcode_job(text, dev.pen);
+    DeviceProfile dev = plot_profile(pj.profile.empty() ? A.profile : pj.profile, pj.dialect);
+    const io::GcodePenRule pen_rule = gcode_pen_rule(dev);
+    io::Job job = pj.dialect == io::Dialect::Hpgl ? io::parse_hpgl_job(text) : io::parse_gcode_job(text, pen_rule);
     if (job.lines.empty()) throw UserError("job " + pj.path + " has no lines to plot");
     bool grbl = pj.dialect == io::Dialect::GCode;
     auto log = [&A](const std::string& s) {
       if (!A.quiet) std::fprintf(stderr, "stipplot: %s\n", s.c_str());
     };
     // The device.
-    io::SerialSettings ser;
-    ser.baud = A.baud > 0 ? A.baud : dev.baud > 0 ? dev.baud : grbl ? 115200 : 9600;
-    ser.flow = io::parse_flow_control(A.flow_given ? A.flow : dev.flow);
-    if (!A.handshake_given) A.handshake = dev.handshake;
-    if (!A.rx_buffer_given && grbl && dev.rx_buffer > 0) A.rx_buffer = dev.rx_buffer;
-    A.newline = A.newline || dev.newline;
+    if (A.baud > 0) dev.serial.port.baud = A.baud;
+    if (A.flow_given) dev.serial.port.flow = io::parse_flow_control(A.flow);
+    if (A.rx_buffer_given && grbl) dev.serial.rx_buffer_bytes = A.rx_buffer;
+    if (A.handshake_given) dev.hpgl.handshake = parse_hpgl_handshake(A.handshake);
+    dev.serial.newline = dev.serial.newline || A.newline;
+    const io::SerialSettings& ser = dev.serial.port;
+    const bool xonxoff = dev.hpgl.handshake == HpglHandshake::xonxoff;
     std::unique_ptr<sim::SimDevice> simdev;
     std::unique_ptr<io::Transport> port;
     std::string port_name;
     if (A.sim) {
       if (grbl) {
-        sim::GrblSimConfig c;
-        c.motion = dev.motion;
-        c.pen = dev.pen;
-        c.travel_x = dev.travel_x;
-        c.travel_y = dev.travel_y;
-        c.rx_buffer = A.rx_buffer;
+        sim::GrblSimConfig c = sim::grbl_sim_config(dev);
         c.speedup = A.sim_speedup;
         c.link = {A.sim_baud, A.sim_latency_ms};
         simdev = std::make_unique<sim::GrblSim>(c);
       } else {
-        sim::HpglSimConfig c;
-        c.motion = dev.motion;
-        c.units_per_mm = dev.units_per_mm;
-        if (dev.rx_buffer >= 64) c.buffer_bytes = dev.rx_buffer;
-        c.xoff_free = c.buffer_bytes * 3 / 8;
-        c.xon_free = c.buffer_bytes * 5 / 8;
+        sim::HpglSimConfig c = sim::hpgl_sim_config(dev);
         c.speedup = A.sim_speedup;
         c.link = {A.sim_baud, A.sim_latency_ms};
-        c.xonxoff = A.handshake == "xonxoff";
-        // XOFF must arrive before the host overfills the buffer: leave room for the
-        // bytes in flight (latency and the host's reaction, scaled by the speedup).
         simdev = std::make_unique<sim::HpglSim>(c);
       }
       port_name = simdev->open_pty();
       auto ps = std::make_unique<io::PosixSerial>(port_name, ser);
-      if (A.handshake == "xonxoff" && A.sim_baud > 0) ps->pace(A.sim_baud / 10 * A.sim_speedup);
+      if (xonxoff && A.sim_baud > 0) ps->pace(A.sim_baud / 10 * A.sim_speedup);
       port = std::move(ps);
     } else {
       port_name = A.port.empty() ? io::choose_port(io::list_devices()) : A.port;
@@ -237,9 +227,8 @@ void register_plot(CLI::App& app) {
     size_t start = resuming ? static_cast<size_t>(resume_state.last_acked + 1) : 0;
     try {
       if (grbl) {
-        io::grbl::Options o;
+        io::grbl::Options o = io::grbl::options_for(dev);
         o.mode = io::grbl::parse_mode(A.stream);
-        o.rx_buffer = A.rx_buffer;
         o.skip_errors = A.skip_errors;
         o.unlock = A.unlock;
         o.log = log;
@@ -250,7 +239,6 @@ void register_plot(CLI::App& app) {
           std::getline(std::cin, answer);
           return answer.empty() || (answer[0] != 'a' && answer[0] != 'A');
         };
-        o.planner_blocks = dev.motion.lookahead_blocks;
         io::grbl::Streamer st(*port, o);
         st.connect();
         for (const auto& w : st.check_settings(st.read_settings(), io::grbl::expectations_for(job))) log("warning: " + w);
@@ -266,12 +254,10 @@ void register_plot(CLI::App& app) {
           log("check mode: all " + std::to_string(job.lines.size()) + " lines accepted");
         }
         io::ResumePlan rp{start, {}};
-        if (resuming) rp = io::plan_resume(job, start, st.device_pen(dev.pen));
+        if (resuming) rp = io::plan_resume(job, start, st.device_pen(pen_rule));
         res = st.stream(job, rp.next, rp.preamble, journal.get(), progress, &controls);
       } else {
-        io::hpgl::Options o;
-        o.handshake = io::hpgl::parse_handshake(A.handshake);
-        o.newline = A.newline;
+        io::hpgl::Options o = io::hpgl::options_for(dev);
         o.log = log;
         io::hpgl::Streamer st(*port, o);
         st.connect();
@@ -303,16 +289,16 @@ void register_plot(CLI::App& app) {
       s["sim_starved_pct"] = 100 * st.starved_share();
       if (!resuming) s["sim_exact"] = rec.size() == planned.size() && std::is_permutation(rec.begin(), rec.end(), planned.begin());
       std::string prefix = A.sim_out.empty() ? pj.path + ".sim" : A.sim_out;
-      double upm = grbl ? 1 : dev.units_per_mm;
+      double upm = grbl ? 1 : dev.machine.units_per_mm;
       Drawing drawn;
       if (A.page_given) {
         PageSpec ps = parse_page(A.page);
         Page page;
         page.width_mm = ps.width_mm;
         page.height_mm = ps.height_mm;
-        drawn = sim::record_to_drawing(rec, page, upm, 0.3, dev.y_up ? ps.height_mm : 0);
+        drawn = sim::record_to_drawing(rec, page, upm, 0.3, dev.machine.y_up() ? ps.height_mm : 0);
       } else {
-        drawn = sim::record_to_fitted_drawing(rec, upm, dev.y_up);  // shown as it lies on the paper
+        drawn = sim::record_to_fitted_drawing(rec, upm, dev.machine.y_up());  // shown as it lies on the paper
       }
       sim::write_drawing_png_svg(drawn, prefix + ".png", prefix + ".svg");
       s["sim_png"] = prefix + ".png";

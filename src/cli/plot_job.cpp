@@ -3,13 +3,11 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "util/error.hpp"
-
-#include "drivers/gcode/gcode_writer.hpp"
-#include "drivers/hpgl/hpgl_writer.hpp"
-#include "drivers/profile.hpp"
+#include "drivers/writers/gcode_writer.hpp"
+#include "drivers/writers/hpgl_writer.hpp"
 #include "plan/planner.hpp"
 #include "svg/svg_reader.hpp"
+#include "util/error.hpp"
 
 namespace stipplot::cli {
 
@@ -30,35 +28,24 @@ io::Dialect dialect_of(const std::string& path) {
   return (e == ".hpgl" || e == ".plt" || e == ".hpg" || e == ".hgl") ? io::Dialect::Hpgl : io::Dialect::GCode;
 }
 
-PlotDevice plot_device(const std::string& name) {
-  PlotDevice d;
-  if (name.empty()) return d;
-  DeviceProfile p = find_profile(name);
-  d.profile = p.name;
-  d.baud = p.baud;
-  d.flow = p.flow_control == FlowControl::xonxoff ? "xonxoff" : p.flow_control == FlowControl::rtscts ? "rtscts" : "none";
-  d.rx_buffer = p.rx_buffer_bytes;
-  switch (p.hpgl_handshake) {
-    case HpglHandshake::buffer_query: d.handshake = "escb"; break;
-    case HpglHandshake::xonxoff: d.handshake = "xonxoff"; break;
-    default: d.handshake = "hardware"; break;  // RTS/CTS in the serial driver, or none at all
-  }
-  d.newline = p.newline;
-  if (p.pen_method == PenMethod::servo) d.pen.servo_up_s = p.servo_up_s;
-  if (p.pen_method == PenMethod::z_axis) {
-    if (!(p.z_down_mm < p.z_up_mm))
-      throw UserError("profile " + p.name + ": the driver expects z_down_mm below z_up_mm to tell the pen state");
-    d.pen.z_down_below = (p.z_up_mm + p.z_down_mm) / 2;
-  } else {
-    d.pen.z_down_below = -1e9;  // Z plays no part in the pen state
-  }
-  d.motion = motion_params(p);
-  d.travel_x = p.travel_x_mm;
-  d.travel_y = p.travel_y_mm;
-  d.units_per_mm = p.units_per_mm;
-  const bool bottom = p.origin == Origin::bottom_left;
-  d.y_up = bottom == (p.y_sign > 0);
-  return d;
+DeviceProfile plot_profile(const std::string& name, io::Dialect dialect) {
+  if (!name.empty()) return find_profile(name);
+  const bool hpgl = dialect == io::Dialect::Hpgl;
+  DeviceProfile p;
+  p.protocol = hpgl ? Protocol::hpgl : Protocol::grbl;
+  p.machine.travel_x_mm = p.machine.travel_y_mm = 300;
+  p.machine.origin = Origin::bottom_left;
+  p.machine.units_per_mm = hpgl ? 40 : 1;
+  // Every G-code pen rule reads the spindle; a Z pen whose middle height is 0 adds
+  // "down below Z 0", so servo, laser and Z-axis jobs all read right.
+  p.pen.method = hpgl ? PenMethod::hpgl : PenMethod::z_axis;
+  p.pen.z_up_mm = 1;
+  p.pen.z_down_mm = -1;
+  p.hpgl.handshake = HpglHandshake::buffer_query;
+  p.serial.port.baud = hpgl ? 9600 : 115200;
+  p.serial.rx_buffer_bytes = hpgl ? 1024 : 128;
+  p.serial.newline = false;
+  return p;
 }
 
 PreparedJob prepare_job(const PlotJobRequest& r) {

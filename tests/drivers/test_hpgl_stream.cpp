@@ -72,7 +72,7 @@ TEST_CASE("XON/XOFF at 115200 baud with paced writes: no overflow, exact drawing
   port.pace(115200 / 10.0 * 8);
   Job job = hpgl_job(22, 12);
   hpgl::Options o;
-  o.handshake = hpgl::Handshake::XonXoff;
+  o.handshake = HpglHandshake::xonxoff;
   o.newline = true;
   hpgl::Streamer st(port, o);
   st.connect();
@@ -90,7 +90,7 @@ TEST_CASE("without any handshake a fast host overfills the plotter (the simulato
   PosixSerial port(sim.open_pty(), {});
   Job job = hpgl_job(23, 120);
   hpgl::Options o;
-  o.handshake = hpgl::Handshake::Hardware;  // but a pty has no RTS/CTS
+  o.handshake = HpglHandshake::hardware;  // but a pty has no RTS/CTS
   o.status_queries = false;
   hpgl::Streamer st(port, o);
   st.connect();

@@ -12,10 +12,10 @@
 #include <map>
 #include <sstream>
 
-#include "drivers/gcode/gcode_writer.hpp"
-#include "drivers/hpgl/hpgl_writer.hpp"
-#include "drivers/machine.hpp"
-#include "drivers/profile.hpp"
+#include "drivers/writers/gcode_writer.hpp"
+#include "drivers/writers/hpgl_writer.hpp"
+#include "drivers/device/machine.hpp"
+#include "drivers/device/profile.hpp"
 #include "util/error.hpp"
 #include "writers/plan_fixtures.hpp"
 
@@ -74,7 +74,7 @@ GcodeRun interpret_gcode(const std::vector<std::string>& lines, const DeviceProf
   GcodeRun run;
   bool mm = false, absolute = false, feed_set = false, down = false, moved_since_down = false;
   Steps pos{0, 0};
-  const double step = prof.resolution_mm;
+  const double step = prof.machine.resolution_mm;
   MachineTransform limits(prof, Page{});
   for (const auto& raw : lines) {
     INFO("line: " << raw);
@@ -102,10 +102,10 @@ GcodeRun interpret_gcode(const std::vector<std::string>& lines, const DeviceProf
       REQUIRE(absolute);
     }
     // pen state changes
-    if (prof.pen_method == PenMethod::servo) {
+    if (prof.pen.method == PenMethod::servo) {
       if (has("M3")) {
         REQUIRE(w.count('S'));
-        bool now_down = w['S'] == prof.servo_down_s;
+        bool now_down = w['S'] == prof.pen.servo_down_s;
         if (now_down && !down) moved_since_down = false;
         down = now_down;
       }
@@ -113,9 +113,9 @@ GcodeRun interpret_gcode(const std::vector<std::string>& lines, const DeviceProf
         if (down && !moved_since_down) run.drawn.push_back({pos, pos});
         down = false;
       }
-    } else if (prof.pen_method == PenMethod::laser) {
+    } else if (prof.pen.method == PenMethod::laser) {
       if (has("M4")) {
-        REQUIRE(w['S'] == prof.laser_power_s);
+        REQUIRE(w['S'] == prof.pen.laser_power_s);
         if (!down) moved_since_down = false;
         down = true;
       }
@@ -123,11 +123,11 @@ GcodeRun interpret_gcode(const std::vector<std::string>& lines, const DeviceProf
         if (down && !moved_since_down) run.drawn.push_back({pos, pos});
         down = false;
       }
-    } else if (prof.pen_method == PenMethod::z_axis && w.count('Z')) {
+    } else if (prof.pen.method == PenMethod::z_axis && w.count('Z')) {
       REQUIRE(!xy);  // Z moves alone
-      bool now_down = std::fabs(w['Z'] - prof.z_down_mm) < 1e-9;
+      bool now_down = std::fabs(w['Z'] - prof.pen.z_down_mm) < 1e-9;
       if (!now_down) {
-        REQUIRE(std::fabs(w['Z'] - prof.z_up_mm) < 1e-9);
+        REQUIRE(std::fabs(w['Z'] - prof.pen.z_up_mm) < 1e-9);
         REQUIRE(has("G0"));
         if (down && !moved_since_down) run.drawn.push_back({pos, pos});
       } else {
@@ -195,8 +195,8 @@ HpglRun interpret_hpgl(const std::vector<std::string>& cmds, const DeviceProfile
     }
     REQUIRE(initialised);
     if (op == "VS") {
-      REQUIRE(prof.hpgl_velocity);
-      REQUIRE(std::stod(args) <= prof.hpgl_max_velocity_cm_s);
+      REQUIRE(prof.hpgl.velocity);
+      REQUIRE(std::stod(args) <= prof.hpgl.max_velocity_cm_s);
     } else if (op == "SP") {
       REQUIRE(v.size() == 1);
       REQUIRE_FALSE(down);
@@ -205,7 +205,7 @@ HpglRun interpret_hpgl(const std::vector<std::string>& cmds, const DeviceProfile
       run.ended_sp0 = pen == 0;
     } else if (op == "PU" || op == "PD") {
       REQUIRE(v.size() % 2 == 0);
-      REQUIRE(v.size() / 2 <= static_cast<size_t>(prof.hpgl_max_points_per_command));
+      REQUIRE(v.size() / 2 <= static_cast<size_t>(prof.hpgl.max_points_per_command));
       if (op == "PD") {
         REQUIRE(pen > 0);  // a pen is in the holder
         if (v.empty()) run.drawn.push_back({pos, pos});

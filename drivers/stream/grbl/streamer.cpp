@@ -19,6 +19,13 @@ Mode parse_mode(const std::string& s) {
   throw UserError("--stream must be counting or wait, got '" + s + "'");
 }
 
+Options options_for(const DeviceProfile& p) {
+  Options o;
+  o.rx_buffer = p.serial.rx_buffer_bytes;
+  o.planner_blocks = p.motion.lookahead_blocks;
+  return o;
+}
+
 bool parse_status(const std::string& line, Status& s) {
   if (line.size() < 3 || line.front() != '<' || line.back() != '>') return false;
   std::string body = line.substr(1, line.size() - 2);

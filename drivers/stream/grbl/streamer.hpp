@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "drivers/device/profile.hpp"
 #include "drivers/job/gcode_reader.hpp"
 #include "drivers/job/job.hpp"
 #include "drivers/stream/device_error.hpp"
@@ -38,6 +39,9 @@ struct Options {
   std::function<bool(const std::string& line)> on_pause_m0;
   std::function<void(const std::string&)> log;  // warnings and notes
 };
+
+// The profile's RX buffer and planner size.
+Options options_for(const DeviceProfile& p);
 
 struct Status {
   std::string state;  // Idle, Run, Hold:0, Alarm, Check, ...

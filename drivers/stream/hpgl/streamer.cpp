@@ -11,11 +11,11 @@ namespace stipplot::io::hpgl {
 
 using clock = std::chrono::steady_clock;
 
-Handshake parse_handshake(const std::string& s) {
-  if (s == "hardware" || s == "rtscts") return Handshake::Hardware;
-  if (s == "xonxoff" || s == "software") return Handshake::XonXoff;
-  if (s == "escb" || s == "poll" || s == "esc.b") return Handshake::EscB;
-  throw UserError("HPGL handshake must be hardware, xonxoff or escb, got '" + s + "'");
+Options options_for(const DeviceProfile& p) {
+  Options o;
+  o.handshake = p.hpgl.handshake;
+  o.newline = p.serial.newline;
+  return o;
 }
 
 std::string error_meaning(int code) {
@@ -92,7 +92,7 @@ int Streamer::query(char c) {
 }
 
 void Streamer::connect() {
-  if (o_.handshake != Handshake::EscB && !o_.status_queries) {
+  if (o_.handshake != HpglHandshake::buffer_query && !o_.status_queries) {
     buffer_ = o_.buffer_bytes;
     return;
   }
@@ -177,7 +177,7 @@ StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<st
   };
   try {
     auto last_status = clock::now();
-    if (o_.handshake == Handshake::EscB) {
+    if (o_.handshake == HpglHandshake::buffer_query) {
       for (;;) {
         if (controls && controls->abort.exchange(false)) {
           t_.write("\x1b.K");  // abort graphics: drop the plotter's buffer
@@ -210,7 +210,7 @@ StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<st
           return res;
         }
         pump(Millis(0));
-        if (o_.handshake == Handshake::XonXoff && xoff_) {
+        if (o_.handshake == HpglHandshake::xonxoff && xoff_) {
           if (clock::now() - xoff_since_ > o_.not_ready_timeout)
             throw TransportError(TransportError::Kind::Timeout, "the plotter held XOFF for " +
                                                                     std::to_string(o_.not_ready_timeout.count() / 1000) + " s");

@@ -1,15 +1,16 @@
 #pragma once
 // Streams an HPGL job to a pen plotter with the handshake its profile names:
-//  - escb: ask for free buffer space with ESC.B and send at most that much (the
-//    approach chiplotle takes; it survives USB adapters without RTS/CTS, and tells how
-//    far the plotter has got, which the journal records);
+//  - buffer_query (escb): ask for free buffer space with ESC.B and send at most that
+//    much (the approach chiplotle takes; it survives USB adapters without RTS/CTS, and
+//    tells how far the plotter has got, which the journal records);
 //  - xonxoff: in-band XON/XOFF from the plotter (writes should be paced at the baud
 //    rate, as a UART does, so XOFF arrives in time);
-//  - hardware: RTS/CTS in the serial driver; we just write.
+//  - hardware (RTS/CTS in the serial driver) or none: we just write.
 // ESC.O status and OE error queries detect a plotter that is not ready or has an error.
 #include <functional>
 #include <string>
 
+#include "drivers/device/profile.hpp"
 #include "drivers/job/job.hpp"
 #include "drivers/stream/journal.hpp"
 #include "drivers/stream/stream.hpp"
@@ -17,13 +18,10 @@
 
 namespace stipplot::io::hpgl {
 
-enum class Handshake { Hardware, XonXoff, EscB };
-Handshake parse_handshake(const std::string& s);  // "hardware" | "xonxoff" | "escb"
-
 std::string error_meaning(int code);  // HP-GL OE error numbers
 
 struct Options {
-  Handshake handshake = Handshake::EscB;
+  HpglHandshake handshake = HpglHandshake::buffer_query;
   int buffer_bytes = 0;         // 0: ask the plotter (ESC.L)
   int reserve = 16;             // bytes left free in the plotter's buffer
   bool newline = false;         // end every instruction with '\n' (some cutters need it)
@@ -34,6 +32,9 @@ struct Options {
   Millis not_ready_timeout{60000};  // plotter not ready (lever up, view mode) this long: give up
   std::function<void(const std::string&)> log;
 };
+
+// The profile's handshake and newline.
+Options options_for(const DeviceProfile& p);
 
 class Streamer {
  public:

@@ -1,9 +1,10 @@
-#include "drivers/gcode/gcode_writer.hpp"
+#include "drivers/writers/gcode_writer.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <string>
 
+#include "drivers/device/machine.hpp"
 #include "util/error.hpp"
 
 namespace stipplot {
@@ -80,7 +81,7 @@ class GcodeEmitter {
     }
     pen_up(false);
     move_rapid({0, 0});
-    if (p_.pen_method == PenMethod::laser || p_.pen_method == PenMethod::servo) emit("M5");
+    if (p_.pen.method == PenMethod::laser || p_.pen.method == PenMethod::servo) emit("M5");
     emit("M2");
   }
 
@@ -141,6 +142,14 @@ class GcodeEmitter {
     have_pos_ = true;
   }
 
+  // M3 S<s> (servo position) or M4 S<s> (laser power).
+  void spindle(const char* m, double s) {
+    std::string line = m;
+    line += " S";
+    append_number(line, s, 3);
+    emit(line);
+  }
+
   void dwell(double seconds) {
     if (seconds <= 0) return;
     std::string line = "G4 P";
@@ -151,23 +160,19 @@ class GcodeEmitter {
   void pen_down() {
     if (down_) return;
     std::string line;
-    switch (p_.pen_method) {
+    switch (p_.pen.method) {
       case PenMethod::servo:
-        line = "M3 S";
-        append_number(line, p_.servo_down_s, 3);
-        emit(line);
+        spindle("M3", p_.pen.servo_down_s);
         dwell(p_.motion.pen_drop_s);
         break;
       case PenMethod::z_axis:
         line = "G1 Z";
-        append_number(line, p_.z_down_mm, 3);
-        feed(line, p_.z_feed_mm_s);
+        append_number(line, p_.pen.z_down_mm, 3);
+        feed(line, p_.pen.z_feed_mm_s);
         emit(line);
         break;
       case PenMethod::laser:
-        line = "M4 S";
-        append_number(line, p_.laser_power_s, 3);
-        emit(line);
+        spindle("M4", p_.pen.laser_power_s);
         dwell(p_.motion.pen_drop_s);
         break;
       case PenMethod::hpgl:
@@ -179,20 +184,15 @@ class GcodeEmitter {
   void pen_up(bool force) {
     if (!down_ && !force) return;
     std::string line;
-    switch (p_.pen_method) {
+    switch (p_.pen.method) {
       case PenMethod::servo:
-        if (p_.servo_up_s > 0) {
-          line = "M3 S";
-          append_number(line, p_.servo_up_s, 3);
-        } else {
-          line = "M5";
-        }
-        emit(line);
+        if (p_.pen.servo_up_s > 0) spindle("M3", p_.pen.servo_up_s);
+        else emit("M5");
         dwell(p_.motion.pen_lift_s);
         break;
       case PenMethod::z_axis:
         line = "G0 Z";
-        append_number(line, p_.z_up_mm, 3);
+        append_number(line, p_.pen.z_up_mm, 3);
         emit(line);
         break;
       case PenMethod::laser:
@@ -224,7 +224,7 @@ class GcodeEmitter {
       pos_ = q;
       drew = true;
     }
-    if (!drew) dwell(p_.dot_dwell_s);
+    if (!drew) dwell(p_.pen.dot_dwell_s);
     pen_up(false);
   }
 

@@ -1,16 +1,12 @@
 #pragma once
 // From page millimetres (origin top-left, y down) to a device's own coordinates, in
-// whole device steps (resolution_mm for grbl, plotter units for HPGL), and the output
-// plumbing the writers share: they emit lines one at a time, so a driver can stream
-// them to a device and a file writer can write them atomically.
+// whole device steps (resolution_mm for grbl, plotter units for HPGL), and the check
+// that a plan fits the device before anything is written or sent.
 #include <cstdint>
-#include <functional>
-#include <string>
-#include <string_view>
 
+#include "drivers/device/profile.hpp"
 #include "geometry/drawing.hpp"
 #include "plan/plan.hpp"
-#include "drivers/profile.hpp"
 
 namespace stipplot {
 
@@ -36,7 +32,7 @@ class MachineTransform {
   Steps hi() const { return hi_; }
 
  private:
-  const DeviceProfile& p_;
+  const MachineGeometry& m_;
   double page_h_;
   double step_;
   Steps lo_, hi_;
@@ -46,13 +42,4 @@ class MachineTransform {
 // machine mm) outside the profile's travel, before anything is written or sent.
 // O(total points).
 void check_plan_fits(const Plan& plan, const DeviceProfile& profile);
-
-// Receives one command line at a time, without a line terminator.
-using LineSink = std::function<void(std::string_view)>;
-
-// Writes the lines a generator produces to `path` atomically, each followed by
-// `separator` ("\n", or "" for HPGL devices that want none).
-void write_lines_atomic(const std::string& path, const std::function<void(const LineSink&)>& generate,
-                        std::string_view separator = "\n");
-
 }  // namespace stipplot

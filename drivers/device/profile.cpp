@@ -1,4 +1,4 @@
-#include "drivers/profile.hpp"
+#include "drivers/device/profile.hpp"
 
 #include <unistd.h>
 
@@ -135,6 +135,107 @@ const toml::table* subtable(const toml::table& root, const char* name, const std
   return t;
 }
 
+MachineGeometry read_machine(Section s, bool hpgl) {
+  MachineGeometry m;
+  m.travel_x_mm = s.number("travel_x_mm", 1, 100000);
+  m.travel_y_mm = s.number("travel_y_mm", 1, 100000);
+  m.origin = s.choice<Origin>("origin", {{"top-left", Origin::top_left}, {"bottom-left", Origin::bottom_left}});
+  auto sign = [&](const char* key) {
+    int v = s.integer(key, -1, 1);
+    if (v == 0) s.fail(key, "must be 1 or -1");
+    return v;
+  };
+  m.x_sign = sign("x_sign");
+  m.y_sign = sign("y_sign");
+  m.origin_offset_x_mm = s.number("origin_offset_x_mm", -10000, 10000);
+  m.origin_offset_y_mm = s.number("origin_offset_y_mm", -10000, 10000);
+  if (hpgl) {
+    m.units_per_mm = s.number("units_per_mm", 1, 10000);
+    m.resolution_mm = 1.0 / m.units_per_mm;
+  } else {
+    m.units_per_mm = 1;
+    m.resolution_mm = s.number("resolution_mm", 1e-4, 1);
+  }
+  s.finish();
+  return m;
+}
+
+MotionParams read_motion(Section s) {
+  MotionParams m;
+  m.speed_down_mm_s = s.number("speed_down_mm_s", 0.1, 10000);
+  m.speed_up_mm_s = s.number("speed_up_mm_s", 0.1, 10000);
+  m.accel_mm_s2 = s.number("accel_mm_s2", 1, 1e6);
+  m.junction_deviation_mm = s.number("junction_deviation_mm", 0, 10);
+  m.pen_lift_s = s.number("pen_lift_s", 0, 10);
+  m.pen_drop_s = s.number("pen_drop_s", 0, 10);
+  m.lookahead_blocks = s.integer("lookahead_blocks", 1, 10000);
+  // Optional: older profiles without it change pens by hand (no machine time).
+  m.pen_change_s = s.has("pen_change_s") ? s.number("pen_change_s", 0, 3600) : 0;
+  s.finish();
+  return m;
+}
+
+PenSetup read_pen(Section s, bool hpgl) {
+  PenSetup p;
+  if (hpgl) {
+    p.method = s.choice<PenMethod>("method", {{"hpgl", PenMethod::hpgl}});
+  } else {
+    p.method = s.choice<PenMethod>(
+        "method", {{"servo", PenMethod::servo}, {"z", PenMethod::z_axis}, {"laser", PenMethod::laser}});
+  }
+  p.count = s.integer("count", 1, 256);
+  if (s.has("map")) {
+    p.map = s.int_array("map", hpgl ? 1 : 0, p.count);
+    if (p.map.empty()) s.fail("map", "must not be empty");
+  }
+  switch (p.method) {
+    case PenMethod::servo:
+      p.servo_down_s = s.number("servo_down_s", 0, 100000);
+      p.servo_up_s = s.number("servo_up_s", 0, 100000);
+      break;
+    case PenMethod::z_axis:
+      p.z_up_mm = s.number("z_up_mm", -1000, 1000);
+      p.z_down_mm = s.number("z_down_mm", -1000, 1000);
+      p.z_feed_mm_s = s.number("z_feed_mm_s", 0.1, 10000);
+      if (p.z_up_mm == p.z_down_mm) s.fail("z_down_mm", "must differ from z_up_mm");
+      break;
+    case PenMethod::laser:
+      p.laser_power_s = s.number("laser_power_s", 0, 100000);
+      break;
+    case PenMethod::hpgl:
+      break;
+  }
+  p.dot_dwell_s = s.number("dot_dwell_s", 0, 10);
+  s.finish();
+  return p;
+}
+
+void read_hpgl(Section s, HpglSettings& h) {
+  h.velocity = s.boolean("velocity");
+  h.max_velocity_cm_s = s.number("max_velocity_cm_s", 0.1, 1000);
+  h.max_points_per_command = s.integer("max_points_per_command", 1, 10000);
+  s.finish();
+}
+
+// [serial]; its handshake key belongs to the HPGL settings.
+SerialSetup read_serial(Section s, bool hpgl, HpglSettings& h) {
+  SerialSetup ser;
+  ser.port.baud = s.integer("baud", 50, 10'000'000);
+  ser.port.flow = s.choice<io::FlowControl>("flow_control", {{"none", io::FlowControl::None},
+                                                             {"xonxoff", io::FlowControl::XonXoff},
+                                                             {"rtscts", io::FlowControl::RtsCts}});
+  ser.rx_buffer_bytes = s.integer("rx_buffer_bytes", 16, 1 << 24);
+  if (hpgl) {
+    h.handshake = s.choice<HpglHandshake>("handshake", {{"none", HpglHandshake::none},
+                                                        {"xonxoff", HpglHandshake::xonxoff},
+                                                        {"hardware", HpglHandshake::hardware},
+                                                        {"buffer_query", HpglHandshake::buffer_query}});
+  }
+  ser.newline = s.boolean("newline");
+  s.finish();
+  return ser;
+}
+
 DeviceProfile parse_table(const toml::table& root, const std::string& file) {
   DeviceProfile p;
   static const std::set<std::string> kSections = {"machine", "motion", "pen", "hpgl", "serial"};
@@ -146,101 +247,17 @@ DeviceProfile parse_table(const toml::table& root, const std::string& file) {
   p.description = top.string("description");
   p.protocol = top.choice<Protocol>("protocol", {{"grbl", Protocol::grbl}, {"hpgl", Protocol::hpgl}});
   const bool hpgl = p.protocol == Protocol::hpgl;
+  auto section = [&](const char* name) { return Section(subtable(root, name, file, true), name, file); };
 
-  {
-    Section s(subtable(root, "machine", file, true), "machine", file);
-    p.travel_x_mm = s.number("travel_x_mm", 1, 100000);
-    p.travel_y_mm = s.number("travel_y_mm", 1, 100000);
-    p.origin = s.choice<Origin>("origin", {{"top-left", Origin::top_left}, {"bottom-left", Origin::bottom_left}});
-    auto sign = [&](const char* key) {
-      int v = s.integer(key, -1, 1);
-      if (v == 0) s.fail(key, "must be 1 or -1");
-      return v;
-    };
-    p.x_sign = sign("x_sign");
-    p.y_sign = sign("y_sign");
-    p.origin_offset_x_mm = s.number("origin_offset_x_mm", -10000, 10000);
-    p.origin_offset_y_mm = s.number("origin_offset_y_mm", -10000, 10000);
-    if (hpgl) {
-      p.units_per_mm = s.number("units_per_mm", 1, 10000);
-      p.resolution_mm = 1.0 / p.units_per_mm;
-    } else {
-      p.units_per_mm = 1;
-      p.resolution_mm = s.number("resolution_mm", 1e-4, 1);
-    }
-    s.finish();
-  }
-  {
-    Section s(subtable(root, "motion", file, true), "motion", file);
-    MotionParams& m = p.motion;
-    m.speed_down_mm_s = s.number("speed_down_mm_s", 0.1, 10000);
-    m.speed_up_mm_s = s.number("speed_up_mm_s", 0.1, 10000);
-    m.accel_mm_s2 = s.number("accel_mm_s2", 1, 1e6);
-    m.junction_deviation_mm = s.number("junction_deviation_mm", 0, 10);
-    m.pen_lift_s = s.number("pen_lift_s", 0, 10);
-    m.pen_drop_s = s.number("pen_drop_s", 0, 10);
-    m.lookahead_blocks = s.integer("lookahead_blocks", 1, 10000);
-    // Optional: older profiles without it change pens by hand (no machine time).
-    m.pen_change_s = s.has("pen_change_s") ? s.number("pen_change_s", 0, 3600) : 0;
-    s.finish();
-  }
-  {
-    Section s(subtable(root, "pen", file, true), "pen", file);
-    if (hpgl) {
-      p.pen_method = s.choice<PenMethod>("method", {{"hpgl", PenMethod::hpgl}});
-    } else {
-      p.pen_method = s.choice<PenMethod>(
-          "method", {{"servo", PenMethod::servo}, {"z", PenMethod::z_axis}, {"laser", PenMethod::laser}});
-    }
-    p.pen_count = s.integer("count", 1, 256);
-    if (s.has("map")) {
-      p.pen_map = s.int_array("map", hpgl ? 1 : 0, p.pen_count);
-      if (p.pen_map.empty()) s.fail("map", "must not be empty");
-    }
-    switch (p.pen_method) {
-      case PenMethod::servo:
-        p.servo_down_s = s.number("servo_down_s", 0, 100000);
-        p.servo_up_s = s.number("servo_up_s", 0, 100000);
-        break;
-      case PenMethod::z_axis:
-        p.z_up_mm = s.number("z_up_mm", -1000, 1000);
-        p.z_down_mm = s.number("z_down_mm", -1000, 1000);
-        p.z_feed_mm_s = s.number("z_feed_mm_s", 0.1, 10000);
-        if (p.z_up_mm == p.z_down_mm) s.fail("z_down_mm", "must differ from z_up_mm");
-        break;
-      case PenMethod::laser:
-        p.laser_power_s = s.number("laser_power_s", 0, 100000);
-        break;
-      case PenMethod::hpgl:
-        break;
-    }
-    p.dot_dwell_s = s.number("dot_dwell_s", 0, 10);
-    s.finish();
-  }
+  p.machine = read_machine(section("machine"), hpgl);
+  p.motion = read_motion(section("motion"));
+  p.pen = read_pen(section("pen"), hpgl);
   if (hpgl) {
-    Section s(subtable(root, "hpgl", file, true), "hpgl", file);
-    p.hpgl_velocity = s.boolean("velocity");
-    p.hpgl_max_velocity_cm_s = s.number("max_velocity_cm_s", 0.1, 1000);
-    p.hpgl_max_points_per_command = s.integer("max_points_per_command", 1, 10000);
-    s.finish();
+    read_hpgl(section("hpgl"), p.hpgl);
   } else if (root.contains("hpgl")) {
     throw UserError("profile " + file + ": section [hpgl] is only for protocol = \"hpgl\"");
   }
-  {
-    Section s(subtable(root, "serial", file, true), "serial", file);
-    p.baud = s.integer("baud", 50, 10'000'000);
-    p.flow_control = s.choice<FlowControl>(
-        "flow_control", {{"none", FlowControl::none}, {"xonxoff", FlowControl::xonxoff}, {"rtscts", FlowControl::rtscts}});
-    p.rx_buffer_bytes = s.integer("rx_buffer_bytes", 16, 1 << 24);
-    if (hpgl) {
-      p.hpgl_handshake = s.choice<HpglHandshake>("handshake", {{"none", HpglHandshake::none},
-                                                               {"xonxoff", HpglHandshake::xonxoff},
-                                                               {"hardware", HpglHandshake::hardware},
-                                                               {"buffer_query", HpglHandshake::buffer_query}});
-    }
-    p.newline = s.boolean("newline");
-    s.finish();
-  }
+  p.serial = read_serial(section("serial"), hpgl, p.hpgl);
   // Top-level: everything else must be a known section.
   for (const auto& [k, v] : root) {
     (void)v;
@@ -262,14 +279,14 @@ fs::path executable_dir() {
 }  // namespace
 
 int DeviceProfile::pen_for_layer(size_t layer) const {
-  if (!pen_map.empty()) {
-    if (layer < pen_map.size()) return pen_map[layer];
-  } else if (layer < static_cast<size_t>(pen_count)) {
+  if (!pen.map.empty()) {
+    if (layer < pen.map.size()) return pen.map[layer];
+  } else if (layer < static_cast<size_t>(pen.count)) {
     return static_cast<int>(layer) + 1;
   }
   if (protocol == Protocol::grbl) return 1;  // one pen holder: the operator changes pens at M0
   throw UserError("the plan has more layers (" + std::to_string(layer + 1) + "+) than profile " + name +
-                  " has pens (" + std::to_string(pen_map.empty() ? pen_count : static_cast<int>(pen_map.size())) +
+                  " has pens (" + std::to_string(pen.map.empty() ? pen.count : static_cast<int>(pen.map.size())) +
                   "); merge layers or use a profile with more pens");
 }
 
@@ -351,8 +368,6 @@ DeviceProfile find_profile(const std::string& name_or_path) {
                   "; searched " + searched + ")");
 }
 
-MotionParams motion_params(const DeviceProfile& p) { return p.motion; }
-
 std::string to_string(Protocol p) { return p == Protocol::grbl ? "grbl" : "hpgl"; }
 
 std::string to_string(PenMethod m) {
@@ -363,6 +378,13 @@ std::string to_string(PenMethod m) {
     case PenMethod::hpgl: return "hpgl";
   }
   return "?";
+}
+
+HpglHandshake parse_hpgl_handshake(const std::string& s) {
+  if (s == "hardware" || s == "rtscts") return HpglHandshake::hardware;
+  if (s == "xonxoff" || s == "software") return HpglHandshake::xonxoff;
+  if (s == "escb" || s == "poll" || s == "esc.b") return HpglHandshake::buffer_query;
+  throw UserError("HPGL handshake must be hardware, xonxoff or escb, got '" + s + "'");
 }
 
 }  // namespace stipplot

@@ -1,9 +1,10 @@
-#include "drivers/hpgl/hpgl_writer.hpp"
+#include "drivers/writers/hpgl_writer.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
+#include "drivers/device/machine.hpp"
 #include "util/error.hpp"
 
 namespace stipplot {
@@ -28,11 +29,11 @@ void check_protocol(const Plan& plan, const DeviceProfile& profile) {
 void write_hpgl(const Plan& plan, const DeviceProfile& profile, const LineSink& sink) {
   check_protocol(plan, profile);
   MachineTransform t(profile, plan.page);
-  const size_t chunk = static_cast<size_t>(std::max(1, profile.hpgl_max_points_per_command));
+  const size_t chunk = static_cast<size_t>(std::max(1, profile.hpgl.max_points_per_command));
   sink("IN;");
-  if (profile.hpgl_velocity) {
+  if (profile.hpgl.velocity) {
     // VS is in cm/s; the plotter uses it for pen-down moves.
-    double v = std::min(profile.motion.speed_down_mm_s / 10.0, profile.hpgl_max_velocity_cm_s);
+    double v = std::min(profile.motion.speed_down_mm_s / 10.0, profile.hpgl.max_velocity_cm_s);
     char buf[32];
     std::snprintf(buf, sizeof buf, "VS%.1f;", v);
     std::string vs = buf;
@@ -82,7 +83,7 @@ std::vector<std::string> hpgl_commands(const Plan& plan, const DeviceProfile& pr
 void write_hpgl_file(const Plan& plan, const DeviceProfile& profile, const std::string& path) {
   check_protocol(plan, profile);  // before the file is created
   write_lines_atomic(
-      path, [&](const LineSink& sink) { write_hpgl(plan, profile, sink); }, profile.newline ? "\n" : "");
+      path, [&](const LineSink& sink) { write_hpgl(plan, profile, sink); }, profile.serial.newline ? "\n" : "");
 }
 
 }  // namespace stipplot

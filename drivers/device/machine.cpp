@@ -1,33 +1,30 @@
-#include "drivers/machine.hpp"
+#include "drivers/device/machine.hpp"
 
 #include <cmath>
-#include <cstdio>
-#include <memory>
 #include <sstream>
 
-#include "util/atomic_file.hpp"
 #include "util/error.hpp"
 
 namespace stipplot {
 
 MachineTransform::MachineTransform(const DeviceProfile& profile, const Page& page)
-    : p_(profile), page_h_(page.height_mm), step_(profile.resolution_mm) {
+    : m_(profile.machine), page_h_(page.height_mm), step_(m_.resolution_mm) {
   // Travel in whole steps; a hair of slack so 276 mm at 0.025 mm is 11040 steps, not 11039.
-  const int64_t nx = static_cast<int64_t>(std::floor(profile.travel_x_mm / step_ + 1e-6));
-  const int64_t ny = static_cast<int64_t>(std::floor(profile.travel_y_mm / step_ + 1e-6));
-  lo_ = {profile.x_sign > 0 ? 0 : -nx, profile.y_sign > 0 ? 0 : -ny};
-  hi_ = {profile.x_sign > 0 ? nx : 0, profile.y_sign > 0 ? ny : 0};
+  const int64_t nx = static_cast<int64_t>(std::floor(m_.travel_x_mm / step_ + 1e-6));
+  const int64_t ny = static_cast<int64_t>(std::floor(m_.travel_y_mm / step_ + 1e-6));
+  lo_ = {m_.x_sign > 0 ? 0 : -nx, m_.y_sign > 0 ? 0 : -ny};
+  hi_ = {m_.x_sign > 0 ? nx : 0, m_.y_sign > 0 ? ny : 0};
 }
 
 Vec2 MachineTransform::to_machine_mm(Vec2 p) const {
   const double dx = p.x;
-  const double dy = p_.origin == Origin::top_left ? p.y : page_h_ - p.y;
-  return {p_.x_sign * (dx - p_.origin_offset_x_mm), p_.y_sign * (dy - p_.origin_offset_y_mm)};
+  const double dy = m_.origin == Origin::top_left ? p.y : page_h_ - p.y;
+  return {m_.x_sign * (dx - m_.origin_offset_x_mm), m_.y_sign * (dy - m_.origin_offset_y_mm)};
 }
 
 Vec2 MachineTransform::page_position_of_machine_zero() const {
-  return {p_.origin_offset_x_mm,
-          p_.origin == Origin::top_left ? p_.origin_offset_y_mm : page_h_ - p_.origin_offset_y_mm};
+  return {m_.origin_offset_x_mm,
+          m_.origin == Origin::top_left ? m_.origin_offset_y_mm : page_h_ - m_.origin_offset_y_mm};
 }
 
 Steps MachineTransform::to_steps(Vec2 page_mm) const {
@@ -60,28 +57,12 @@ void check_plan_fits(const Plan& plan, const DeviceProfile& profile) {
             << t.lo().y * t.step_mm() << ".." << t.hi().y * t.step_mm()
             << " mm); use a larger margin, a smaller page, or another profile";
         const bool page_portrait = plan.page.height_mm > plan.page.width_mm;
-        const bool travel_landscape = profile.travel_x_mm > profile.travel_y_mm;
+        const bool travel_landscape = profile.machine.travel_x_mm > profile.machine.travel_y_mm;
         if (page_portrait && travel_landscape) msg << " (the page is portrait, the device's area landscape: try --landscape)";
         throw UserError(msg.str());
       }
     }
   }
-}
-
-void write_lines_atomic(const std::string& path, const std::function<void(const LineSink&)>& generate,
-                        std::string_view separator) {
-  AtomicFile out(path);
-  {
-    std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(out.temp_path().c_str(), "wb"), &std::fclose);
-    if (!f) throw UserError("cannot write " + path);
-    FILE* fp = f.get();
-    generate([fp, separator](std::string_view line) {
-      std::fwrite(line.data(), 1, line.size(), fp);
-      if (!separator.empty()) std::fwrite(separator.data(), 1, separator.size(), fp);
-    });
-    if (std::ferror(fp) || std::fflush(fp) != 0) throw UserError("cannot write " + path + " (disk full?)");
-  }
-  out.commit();
 }
 
 }  // namespace stipplot

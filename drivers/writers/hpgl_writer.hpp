@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "drivers/machine.hpp"
+#include "drivers/device/profile.hpp"
+#include "drivers/writers/line_output.hpp"
+#include "plan/plan.hpp"
 
 namespace stipplot {
 
