@@ -2,10 +2,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
-#include "drivers/writers/gcode_writer.hpp"
-#include "drivers/writers/hpgl_writer.hpp"
-#include "plan/planner.hpp"
+#include "cli/common.hpp"
 #include "svg/svg_reader.hpp"
 #include "util/error.hpp"
 
@@ -48,21 +47,37 @@ DeviceProfile plot_profile(const std::string& name, io::Dialect dialect) {
   return p;
 }
 
+namespace {
+// write_planned_output picks the writer by the file's extension: it must be the profile's.
+void check_job_name(const std::string& path, const DeviceProfile& prof) {
+  const bool hpgl = prof.protocol == Protocol::hpgl;
+  bool ok = false;
+  try {
+    ok = output_kind(path, "--job") == (hpgl ? OutputKind::hpgl : OutputKind::gcode);
+  } catch (const UserError&) {
+  }
+  if (!ok)
+    throw UserError("--job " + path + ": profile " + prof.name +
+                    (hpgl ? " is an HPGL plotter: name the job .hpgl or .plt" : " speaks G-code: name the job .gcode or .nc"));
+}
+}  // namespace
+
 PreparedJob prepare_job(const PlotJobRequest& r) {
   if (is_job_file(r.input)) return {r.input, dialect_of(r.input), r.profile};
   if (lower_ext(r.input) != ".svg")
     throw UserError("plot takes an SVG drawing or a .gcode/.hpgl job; for an image, run a method first (e.g. "
                     "stipplot stipple photo.jpg -o photo.svg) and plot the SVG");
-  DeviceProfile prof = find_profile(r.profile.empty() ? kDefaultProfile : r.profile);
+  const std::string profile = r.profile.empty() ? kDefaultProfile : r.profile;
+  DeviceProfile prof = find_profile(profile);
   Drawing d = read_svg(r.input);
   if (d.primitive_count() == 0) throw UserError(r.input + ": nothing to plot (no visible shapes)");
-  Plan plan = plan_drawing(d, PlanOptions{});
-  bool hpgl = prof.protocol == Protocol::hpgl;
+  const bool hpgl = prof.protocol == Protocol::hpgl;
   std::string path = r.job_out.empty()
                          ? std::filesystem::path(r.input).replace_extension(hpgl ? ".hpgl" : ".gcode").string()
                          : r.job_out;
-  if (hpgl) write_hpgl_file(plan, prof, path);
-  else write_gcode_file(plan, prof, path);
+  if (!r.job_out.empty()) check_job_name(path, prof);
+  nlohmann::json plan_summary;  // plot reports the streaming, not the plan
+  write_planned_output(d, path, profile, PlanArgs{}, false, plan_summary);
   return {path, hpgl ? io::Dialect::Hpgl : io::Dialect::GCode, prof.name};
 }
 
