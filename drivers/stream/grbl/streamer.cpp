@@ -8,46 +8,17 @@
 #include <thread>
 
 #include "drivers/stream/grbl/codes.hpp"
+#include "drivers/stream/session.hpp"
 
 namespace stipplot::io::grbl {
 
 using clock = std::chrono::steady_clock;
-
-Mode parse_mode(const std::string& s) {
-  if (s == "counting" || s == "character-counting" || s == "cc") return Mode::CharacterCounting;
-  if (s == "wait" || s == "send-and-wait" || s == "simple") return Mode::SendAndWait;
-  throw UserError("--stream must be counting or wait, got '" + s + "'");
-}
 
 Options options_for(const DeviceProfile& p) {
   Options o;
   o.rx_buffer = p.serial.rx_buffer_bytes;
   o.planner_blocks = p.motion.lookahead_blocks;
   return o;
-}
-
-bool parse_status(const std::string& line, Status& s) {
-  if (line.size() < 3 || line.front() != '<' || line.back() != '>') return false;
-  std::string body = line.substr(1, line.size() - 2);
-  size_t pos = 0;
-  int field = 0;
-  while (pos <= body.size()) {
-    size_t bar = body.find('|', pos);
-    std::string f = body.substr(pos, bar == std::string::npos ? std::string::npos : bar - pos);
-    if (field == 0) s.state = f;
-    else if (f.rfind("MPos:", 0) == 0 || f.rfind("WPos:", 0) == 0)
-      std::sscanf(f.c_str() + 5, "%lf,%lf,%lf", &s.x, &s.y, &s.z);
-    else if (f.rfind("Bf:", 0) == 0)
-      std::sscanf(f.c_str() + 3, "%d,%d", &s.blocks_free, &s.bytes_free);
-    else if (f.rfind("FS:", 0) == 0)
-      std::sscanf(f.c_str() + 3, "%lf,%lf", &s.feed, &s.spindle);
-    else if (f.rfind("F:", 0) == 0)
-      std::sscanf(f.c_str() + 2, "%lf", &s.feed);
-    ++field;
-    if (bar == std::string::npos) break;
-    pos = bar + 1;
-  }
-  return !s.state.empty();
 }
 
 Expectations expectations_for(const Job& job) {
@@ -104,13 +75,17 @@ DevicePen Streamer::device_pen(const GcodePenRule& rule) {
   return p;
 }
 
+bool Streamer::wait_for_banner(Millis timeout, Millis slice) {
+  auto end = clock::now() + timeout;
+  std::string line;
+  while (clock::now() < end)
+    if (reader_.read_line(line, slice) && classify_reply(line).kind == ReplyKind::Banner) return true;
+  return false;
+}
+
 void Streamer::soft_reset() {
   t_.write("\x18");
-  auto end = clock::now() + o_.banner_timeout;
-  std::string line;
-  while (clock::now() < end) {
-    if (reader_.read_line(line, Millis(100)) && line.rfind("Grbl ", 0) == 0) return;
-  }
+  if (wait_for_banner(o_.banner_timeout)) return;
   throw TransportError(TransportError::Kind::Timeout, "grbl did not restart after a soft reset (Ctrl-X) within " +
                                                           std::to_string(o_.banner_timeout.count()) + " ms");
 }
@@ -118,11 +93,7 @@ void Streamer::soft_reset() {
 void Streamer::connect() {
   // An Arduino resets when the port opens and prints its banner; a board that did not
   // reset answers a status query instead; failing both, ask for a soft reset.
-  std::string line;
-  bool alive = false;
-  auto end = clock::now() + Millis(400);
-  while (clock::now() < end && !alive)
-    if (reader_.read_line(line, Millis(50)) && line.rfind("Grbl ", 0) == 0) alive = true;
+  bool alive = wait_for_banner(Millis(400), Millis(50));
   Status st;
   if (!alive) {
     try {
@@ -147,10 +118,7 @@ void Streamer::connect() {
   if (st.state.rfind("Alarm", 0) == 0) {
     if (!o_.unlock)
       throw UserError("grbl is in ALARM state: check the machine, then unlock it (pass --unlock to send $X)");
-    t_.write("$X\n");
-    std::string r;
-    do r = reply_line(Millis(3000));
-    while (r.rfind("ok", 0) != 0 && r.rfind("error", 0) != 0);
+    system_command("$X", Millis(3000));
     note("grbl was in ALARM; unlocked with $X");
   }
   // Still finishing earlier work (after a reconnect): wait for it.
@@ -163,25 +131,28 @@ void Streamer::connect() {
   reader_.clear();
 }
 
-std::string Streamer::reply_line(Millis timeout) {
-  std::string line;
+std::string Streamer::system_command(const std::string& cmd, Millis timeout, std::vector<std::string>* lines) {
+  t_.write(cmd + "\n");
   auto end = clock::now() + timeout;
+  std::string line;
   while (clock::now() < end) {
     if (!reader_.read_line(line, Millis(50))) continue;
-    if (line.front() == '<') continue;  // a stray status report
-    return line;
+    const Reply r = classify_reply(line);
+    if (r.answers_a_line()) return line;
+    if (r.kind == ReplyKind::Status) continue;  // a stray status report: not the command's
+    if (lines) lines->push_back(line);
+    end = clock::now() + timeout;  // the timeout is per line of output
   }
   throw TransportError(TransportError::Kind::Timeout, "no reply from grbl on " + t_.describe());
 }
 
 std::map<int, double> Streamer::read_settings() {
-  t_.write("$$\n");
+  std::vector<std::string> lines;
+  const std::string answer = system_command("$$", Millis(5000), &lines);
+  if (classify_reply(answer).kind == ReplyKind::Error)
+    throw UserError("grbl refused $$ (" + answer + "): " + error_meaning(classify_reply(answer).code));
   std::map<int, double> s;
-  for (;;) {
-    std::string line = reply_line(Millis(5000));
-    if (line == "ok") break;
-    if (line.rfind("error:", 0) == 0)
-      throw UserError("grbl refused $$ (" + line + "): " + error_meaning(std::atoi(line.c_str() + 6)));
+  for (const std::string& line : lines) {
     int k;
     double v;
     if (std::sscanf(line.c_str(), "$%d=%lf", &k, &v) == 2) s[k] = v;
@@ -221,271 +192,290 @@ std::vector<std::string> Streamer::check_settings(const std::map<int, double>& s
   return w;
 }
 
+// One stream() call. The loop sends while the window has room, polls status, and hands
+// each line grbl sends to the handler of its kind; controls (pause, resume, abort) are
+// applied between lines.
+class Streamer::JobRun {
+ public:
+  JobRun(Streamer& s, const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
+         const ProgressFn& progress, StreamControls* controls)
+      : s_(s), o_(s.o_), session_(job, start, preamble, journal, progress), controls_(controls),
+        window_(o_.mode, static_cast<size_t>(o_.rx_buffer)) {}
+
+  StreamResult run() {
+    try {
+      for (;;) {
+        const auto now = clock::now();
+        if (apply_controls() == Control::Aborted) return abort();
+        send_while_it_fits();
+        if (finished(now)) break;
+        poll_if_due(now);
+        read_and_dispatch();
+      }
+    } catch (const TransportError&) {
+      session_.sync_journal();
+      throw;
+    }
+    session_.complete();
+    StreamResult res = session_.finish();
+    session_.all_lines_done();
+    report();
+    return res;
+  }
+
+ private:
+  enum class Control { Go, Aborted };
+  using clock = std::chrono::steady_clock;
+
+  void report() { session_.report(next_, s_.last_status_.state, s_.last_status_.x, s_.last_status_.y); }
+
+  // Everything sent and answered, and grbl has been seen idle since (or is checking).
+  bool finished(clock::time_point now) {
+    if (next_ < session_.items() || !window_.empty()) return false;
+    if (!finishing_) {
+      finishing_ = true;
+      next_poll_ = now;  // ask at once whether grbl is done
+    }
+    const std::string& state = s_.last_status_.state;
+    return (state == "Idle" && idle_polls_ > 0) || state == "Check";
+  }
+
+  Control apply_controls() {
+    if (!controls_) return Control::Go;
+    if (controls_->abort.exchange(false)) return Control::Aborted;
+    if (controls_->pause.exchange(false) && !paused_) {
+      s_.t_.write("!");
+      paused_ = true;
+      if (o_.lift_on_pause) {
+        std::this_thread::sleep_for(Millis(100));
+        s_.t_.write("\x9e");  // spindle stop override: lifts a servo pen while held
+      }
+      s_.note("paused (feed hold)");
+    }
+    if (controls_->resume.exchange(false) && paused_) {
+      s_.t_.write("~");
+      paused_ = false;
+      s_.note("resumed");
+    }
+    return Control::Go;
+  }
+
+  void send_while_it_fits() {
+    while (!paused_ && next_ < session_.items()) {
+      const std::string& text = session_.text(next_);
+      const size_t bytes = text.size() + 1;
+      if (!window_.fits(bytes)) break;
+      s_.t_.write(text + "\n");
+      window_.sent(next_, bytes);
+      ++next_;
+    }
+  }
+
+  void poll_if_due(clock::time_point now) {
+    if (now < next_poll_) return;
+    s_.t_.write("?");
+    next_poll_ = now + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(1.0 / o_.poll_hz));
+  }
+
+  // Waits for one line from grbl until the next poll is due, and hands it to the
+  // handler of its kind.
+  void read_and_dispatch() {
+    std::string line;
+    auto wait = std::clamp(std::chrono::duration_cast<Millis>(next_poll_ - clock::now()), Millis(1), Millis(50));
+    if (!s_.reader_.read_line(line, wait)) {
+      if (clock::now() - last_rx_ > o_.silence_timeout)
+        throw TransportError(TransportError::Kind::Timeout,
+                             "grbl on " + s_.t_.describe() + " stopped answering (nothing for " +
+                                 std::to_string(o_.silence_timeout.count() / 1000) + " s, not even status reports)");
+      return;
+    }
+    last_rx_ = clock::now();
+    const Reply r = classify_reply(line);
+    switch (r.kind) {
+      case ReplyKind::Ok: on_ok(); break;
+      case ReplyKind::Error: on_error(line, r.code); break;
+      case ReplyKind::Alarm: on_alarm(r.code); break;
+      case ReplyKind::Status: on_status(line); break;
+      case ReplyKind::Banner: on_restart(); break;
+      case ReplyKind::Message: s_.note("grbl: " + line); break;
+      case ReplyKind::Other: s_.note("unrecognised reply from grbl: '" + line + "' (ignored)"); break;
+    }
+  }
+
+  // The line answered was done; a job line (not the preamble) counts and is journalled.
+  void acknowledge(const LineWindow::Line& l) {
+    const long line = session_.job_line(l.item);
+    if (line < 0) return;
+    session_.acknowledge(line);
+    if (session_.job().lines[static_cast<size_t>(line)].motion) {
+      acked_motion_.push_back(line);
+      if (acked_motion_.size() > 64) acked_motion_.pop_front();
+    }
+  }
+
+  void on_ok() {
+    if (window_.empty()) {
+      s_.note("unexpected 'ok' from grbl (ignored)");
+      return;
+    }
+    acknowledge(window_.answered());
+    report();
+  }
+
+  void on_error(const std::string& line, int code) {
+    if (window_.empty()) {
+      s_.note("grbl reported " + line + " with no line outstanding: " + error_meaning(code));
+      return;
+    }
+    const LineWindow::Line l = window_.answered();
+    const long idx = session_.job_line(l.item);
+    const std::string where = idx >= 0 ? "line " + std::to_string(idx + 1) : "resume preamble";
+    const std::string msg =
+        "grbl error:" + std::to_string(code) + " at " + where + " `" + session_.text(l.item) + "`: " + error_meaning(code);
+    StreamResult& res = session_.result();
+    res.errors.push_back({idx, code});
+    if (o_.skip_errors || idx < 0) {
+      ++res.errors_skipped;
+      s_.note(msg + " (skipped)");
+      if (idx >= 0) acknowledge(l);
+      return;
+    }
+    collect_answers_in_flight();
+    session_.sync_journal();
+    throw DeviceError(msg + " (the job stopped; that line was not executed)", idx, code, false);
+  }
+
+  // Sending has stopped; the lines already in grbl's buffer still run: collect them.
+  void collect_answers_in_flight() {
+    auto end = clock::now() + Millis(10000);
+    while (!window_.empty() && clock::now() < end) {
+      std::string r;
+      if (!s_.reader_.read_line(r, Millis(100))) continue;
+      const Reply reply = classify_reply(r);
+      if (!reply.answers_a_line()) continue;
+      const LineWindow::Line l = window_.answered();
+      if (reply.kind == ReplyKind::Ok) acknowledge(l);
+    }
+  }
+
+  [[noreturn]] void on_alarm(int code) {
+    const long idx = window_.empty() ? session_.result().last_acked : session_.job_line(window_.oldest().item);
+    // Leave the port sane: reset flushes grbl's buffers and restarts its parser.
+    try {
+      s_.soft_reset();
+    } catch (const TransportError&) {
+    }
+    rollback_to_executed();
+    throw DeviceError("grbl ALARM:" + std::to_string(code) + " near line " + std::to_string(idx + 1) + ": " +
+                          alarm_meaning(code) + " The machine is locked: check it, unlock ($X) or re-home, then resume.",
+                      idx, code, true);
+  }
+
+  [[noreturn]] void on_restart() {
+    const long done = rollback_to_executed();
+    throw DeviceError("grbl restarted during the job (reset or power loss); its buffer was lost. Resume continues after line " +
+                          std::to_string(done + 1),
+                      done, 0, true);
+  }
+
+  void on_status(const std::string& line) {
+    Status st;
+    if (!parse_status(line, st)) return;
+    s_.last_status_ = st;
+    report();
+    if (st.state.rfind("Alarm", 0) == 0) {
+      rollback_to_executed();
+      throw DeviceError("grbl entered ALARM state during the job (see the machine); resume after unlocking", -1, 0, true);
+    }
+    if (st.state.rfind("Hold", 0) == 0 && !paused_ && !window_.empty()) release_program_pause();
+    count_lost_replies(st);
+  }
+
+  // A hold that is not ours is a program pause (M0): the pen change or whatever the job asks for.
+  void release_program_pause() {
+    const size_t item = window_.oldest().item;
+    const std::string& text = session_.text(item);
+    const bool is_m0 = text.find("M0") != std::string::npos || text.find("M00") != std::string::npos;
+    if (!is_m0 || m0_released_ == static_cast<long>(item)) return;
+    const bool go = o_.on_pause_m0 ? o_.on_pause_m0(text) : true;
+    if (!go) {
+      session_.sync_journal();
+      throw UserError("stopped at the pause on line " + std::to_string(session_.job_line(item) + 1));
+    }
+    m0_released_ = static_cast<long>(item);
+    s_.t_.write("~");
+  }
+
+  // Lost replies: grbl idle, its buffers empty, yet lines unanswered.
+  void count_lost_replies(const Status& st) {
+    const bool empty = st.state == "Idle" && (st.blocks_free < 0 || st.blocks_free == o_.planner_blocks) &&
+                       (st.bytes_free < 0 || st.bytes_free == o_.rx_buffer);
+    if (!empty) {
+      idle_polls_ = 0;
+      return;
+    }
+    if (idle_polls_++ == 0) idle_first_ = clock::now();
+    if (window_.empty() || idle_polls_ < 3 || clock::now() - idle_first_ <= o_.lost_reply_after) return;
+    StreamResult& res = session_.result();
+    res.warnings.push_back("grbl went idle without acknowledging " + std::to_string(window_.size()) +
+                           " line(s): a reply was lost; counting them as done");
+    s_.note(res.warnings.back());
+    while (!window_.empty()) acknowledge(window_.answered());
+    idle_polls_ = 0;
+  }
+
+  // The last job line grbl has executed: acknowledged lines may still wait in its
+  // planner, and a reset (ours, an alarm's, a power loss) discards them.
+  long executed_estimate() const {
+    const Status& st = s_.last_status_;
+    int in_planner = st.blocks_free >= 0 ? o_.planner_blocks - st.blocks_free : o_.planner_blocks;
+    in_planner = std::clamp(in_planner, 0, static_cast<int>(acked_motion_.size()));
+    if (in_planner == 0) return session_.result().last_acked;
+    return acked_motion_[acked_motion_.size() - static_cast<size_t>(in_planner)] - 1;
+  }
+
+  // After grbl lost its buffers: the journal and the result go back to what was executed.
+  long rollback_to_executed() {
+    const long done = executed_estimate();
+    session_.rollback_to(done);
+    return done;
+  }
+
+  StreamResult abort() {
+    s_.t_.write("!");
+    std::this_thread::sleep_for(Millis(200));
+    try {
+      s_.query_status(Millis(2000));
+    } catch (const TransportError&) {
+    }
+    s_.soft_reset();
+    const long done = rollback_to_executed();
+    StreamResult res = session_.finish();
+    s_.note("job aborted; the machine was reset. Resume continues after line " + std::to_string(done + 1));
+    return res;
+  }
+
+  Streamer& s_;
+  const Options& o_;
+  StreamSession session_;
+  StreamControls* controls_;
+  LineWindow window_;
+  size_t next_ = 0;                 // next item to send
+  std::deque<long> acked_motion_;   // acknowledged motion lines not yet known executed
+  clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_;
+  int idle_polls_ = 0;
+  bool paused_ = false, finishing_ = false;
+  long m0_released_ = -2;           // the M0 item whose pause was released
+};
+
 StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
                               const ProgressFn& progress, StreamControls* controls) {
-  StreamResult res;
-  res.last_acked = journal ? journal->last_acked() : static_cast<long>(start) - 1;
-  const size_t n_pre = preamble.size();
-  const size_t total = n_pre + (job.lines.size() > start ? job.lines.size() - start : 0);
-  auto item_text = [&](size_t i) -> const std::string& { return i < n_pre ? preamble[i] : job.lines[start + i - n_pre].text; };
-  auto item_index = [&](size_t i) -> long { return i < n_pre ? -1 : static_cast<long>(start + i - n_pre); };
-  struct Inflight {
-    size_t item;
-    size_t bytes;
-  };
-  std::deque<Inflight> inflight;
-  size_t inflight_bytes = 0, next = 0;
-  // Acknowledged motion lines not yet known executed, for the journal after an abort.
-  std::deque<long> acked_motion;
-  auto t0 = clock::now();
-  auto last_rx = t0, next_poll = t0;
-  int idle_polls = 0;
-  auto idle_first = t0;
-  bool paused = false, finishing = false;
-  long m0_released = -2;
-  double est_done = 0;
-  StreamProgress pg;
-  pg.lines_total = job.lines.size();
-  pg.lines_acked = start;
-  auto report = [&] {
-    if (!progress) return;
-    pg.elapsed_s = std::chrono::duration<double>(clock::now() - t0).count();
-    pg.lines_sent = start + (next > n_pre ? next - n_pre : 0);
-    // ETA: the job's time model, corrected by how fast it has really gone.
-    double est_left = std::max(0.0, job.est_total_s - est_done);
-    double ratio = est_done > 0.5 && pg.elapsed_s > 1 ? pg.elapsed_s / est_done : 1.0;
-    pg.eta_s = est_left * ratio;
-    pg.state = last_status_.state;
-    pg.x = last_status_.x;
-    pg.y = last_status_.y;
-    progress(pg);
-  };
-  // Lines grbl acknowledged that its planner may still hold (a reset discards them).
-  auto executed_estimate = [&]() -> long {
-    int in_planner = last_status_.blocks_free >= 0 ? o_.planner_blocks - last_status_.blocks_free : o_.planner_blocks;
-    in_planner = std::clamp(in_planner, 0, static_cast<int>(acked_motion.size()));
-    if (in_planner == 0) return res.last_acked;
-    long first_unexecuted = acked_motion[acked_motion.size() - static_cast<size_t>(in_planner)];
-    return first_unexecuted - 1;
-  };
-  auto acknowledge = [&](const Inflight& f) {
-    long idx = item_index(f.item);
-    if (idx < 0) return;
-    res.last_acked = idx;
-    ++res.lines_acked;
-    pg.lines_acked = static_cast<size_t>(idx) + 1;
-    est_done += job.lines[static_cast<size_t>(idx)].est_s;
-    if (job.lines[static_cast<size_t>(idx)].motion) {
-      acked_motion.push_back(idx);
-      if (acked_motion.size() > 64) acked_motion.pop_front();
-    }
-    if (journal) journal->ack(static_cast<size_t>(idx));
-  };
-  auto sync_journal = [&] {
-    if (journal) journal->sync();
-  };
-  try {
-    for (;;) {
-      auto now = clock::now();
-      if (controls) {
-        if (controls->abort.exchange(false)) {
-          t_.write("!");
-          std::this_thread::sleep_for(Millis(200));
-          try {
-            query_status(Millis(2000));
-          } catch (const TransportError&) {
-          }
-          long done = executed_estimate();
-          soft_reset();
-          if (journal) journal->rollback_to(done);
-          res.last_acked = done;
-          res.seconds = std::chrono::duration<double>(clock::now() - t0).count();
-          note("job aborted; the machine was reset. Resume continues after line " + std::to_string(done + 1));
-          return res;
-        }
-        if (controls->pause.exchange(false) && !paused) {
-          t_.write("!");
-          paused = true;
-          if (o_.lift_on_pause) {
-            std::this_thread::sleep_for(Millis(100));
-            t_.write("\x9e");  // spindle stop override: lifts a servo pen while held
-          }
-          note("paused (feed hold)");
-        }
-        if (controls->resume.exchange(false) && paused) {
-          t_.write("~");
-          paused = false;
-          note("resumed");
-        }
-      }
-      // Send while it fits.
-      while (!paused && next < total) {
-        const std::string& text = item_text(next);
-        size_t bytes = text.size() + 1;
-        bool fits = o_.mode == Mode::CharacterCounting ? inflight_bytes + bytes <= static_cast<size_t>(o_.rx_buffer)
-                                                       : inflight.empty();
-        if (o_.mode == Mode::CharacterCounting && inflight.empty() && bytes > static_cast<size_t>(o_.rx_buffer))
-          fits = true;  // longer than the buffer: grbl will say error:11
-        if (!fits) break;
-        t_.write(text + "\n");
-        inflight.push_back({next, bytes});
-        inflight_bytes += bytes;
-        ++next;
-      }
-      if (next == total && inflight.empty()) {
-        if (!finishing) {
-          finishing = true;
-          next_poll = now;
-        }
-        if ((last_status_.state == "Idle" && idle_polls > 0) || last_status_.state == "Check") break;
-      }
-      if (now >= next_poll) {
-        t_.write("?");
-        next_poll = now + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(1.0 / o_.poll_hz));
-      }
-      std::string line;
-      auto wait = std::clamp(std::chrono::duration_cast<Millis>(next_poll - clock::now()), Millis(1), Millis(50));
-      if (!reader_.read_line(line, wait)) {
-        if (clock::now() - last_rx > o_.silence_timeout)
-          throw TransportError(TransportError::Kind::Timeout,
-                               "grbl on " + t_.describe() + " stopped answering (nothing for " +
-                                   std::to_string(o_.silence_timeout.count() / 1000) + " s, not even status reports)");
-        continue;
-      }
-      last_rx = clock::now();
-      if (line == "ok") {
-        if (inflight.empty()) {
-          note("unexpected 'ok' from grbl (ignored)");
-          continue;
-        }
-        Inflight f = inflight.front();
-        inflight.pop_front();
-        inflight_bytes -= f.bytes;
-        acknowledge(f);
-        report();
-      } else if (line.rfind("error:", 0) == 0) {
-        int code = std::atoi(line.c_str() + 6);
-        if (inflight.empty()) {
-          note("grbl reported " + line + " with no line outstanding: " + error_meaning(code));
-          continue;
-        }
-        Inflight f = inflight.front();
-        inflight.pop_front();
-        inflight_bytes -= f.bytes;
-        long idx = item_index(f.item);
-        std::string where = idx >= 0 ? "line " + std::to_string(idx + 1) : "resume preamble";
-        std::string msg = "grbl error:" + std::to_string(code) + " at " + where + " `" + item_text(f.item) +
-                          "`: " + error_meaning(code);
-        res.errors.push_back({idx, code});
-        if (o_.skip_errors || idx < 0) {
-          ++res.errors_skipped;
-          note(msg + " (skipped)");
-          if (idx >= 0) acknowledge(f);
-          continue;
-        }
-        // Stop sending; the lines already in grbl's buffer still run: collect them.
-        auto end = clock::now() + Millis(10000);
-        while (!inflight.empty() && clock::now() < end) {
-          std::string r;
-          if (!reader_.read_line(r, Millis(100))) continue;
-          if (r == "ok" || r.rfind("error:", 0) == 0) {
-            Inflight g = inflight.front();
-            inflight.pop_front();
-            if (r == "ok") acknowledge(g);
-          }
-        }
-        sync_journal();
-        throw DeviceError(msg + " (the job stopped; that line was not executed)", idx, code, false);
-      } else if (line.rfind("ALARM:", 0) == 0) {
-        int code = std::atoi(line.c_str() + 6);
-        long done = executed_estimate();
-        long idx = inflight.empty() ? res.last_acked : item_index(inflight.front().item);
-        // Leave the port sane: reset flushes grbl's buffers and restarts its parser.
-        try {
-          soft_reset();
-        } catch (const TransportError&) {
-        }
-        if (journal) journal->rollback_to(done);
-        res.last_acked = done;
-        throw DeviceError("grbl ALARM:" + std::to_string(code) + " near line " + std::to_string(idx + 1) + ": " +
-                              alarm_meaning(code) + " The machine is locked: check it, unlock ($X) or re-home, then resume.",
-                          idx, code, true);
-      } else if (line.front() == '<') {
-        Status s;
-        if (!parse_status(line, s)) continue;
-        last_status_ = s;
-        report();
-        if (s.state.rfind("Alarm", 0) == 0) {
-          long done = executed_estimate();
-          if (journal) journal->rollback_to(done);
-          res.last_acked = done;
-          throw DeviceError("grbl entered ALARM state during the job (see the machine); resume after unlocking", -1, 0, true);
-        }
-        if (s.state.rfind("Hold", 0) == 0 && !paused && !inflight.empty()) {
-          // A program pause (M0): the pen change or whatever the job asks for.
-          const std::string& text = item_text(inflight.front().item);
-          bool is_m0 = text.find("M0") != std::string::npos || text.find("M00") != std::string::npos;
-          if (is_m0 && m0_released != static_cast<long>(inflight.front().item)) {
-            bool go = o_.on_pause_m0 ? o_.on_pause_m0(text) : true;
-            if (!go) {
-              sync_journal();
-              throw UserError("stopped at the pause on line " + std::to_string(item_index(inflight.front().item) + 1));
-            }
-            m0_released = static_cast<long>(inflight.front().item);
-            t_.write("~");
-          }
-        }
-        // Lost replies: grbl idle, its buffers empty, yet lines unacknowledged.
-        bool empty = s.state == "Idle" && (s.blocks_free < 0 || s.blocks_free == o_.planner_blocks) &&
-                     (s.bytes_free < 0 || s.bytes_free == o_.rx_buffer);
-        if (empty) {
-          if (idle_polls++ == 0) idle_first = clock::now();
-          if (!inflight.empty() && idle_polls >= 3 && clock::now() - idle_first > o_.lost_reply_after) {
-            res.warnings.push_back("grbl went idle without acknowledging " + std::to_string(inflight.size()) +
-                                   " line(s): a reply was lost; counting them as done");
-            note(res.warnings.back());
-            while (!inflight.empty()) {
-              acknowledge(inflight.front());
-              inflight.pop_front();
-            }
-            inflight_bytes = 0;
-            idle_polls = 0;
-          }
-        } else {
-          idle_polls = 0;
-        }
-      } else if (line.rfind("Grbl ", 0) == 0) {
-        long done = executed_estimate();
-        if (journal) journal->rollback_to(done);
-        res.last_acked = done;
-        throw DeviceError("grbl restarted during the job (reset or power loss); its buffer was lost. Resume continues after line " +
-                              std::to_string(done + 1),
-                          done, 0, true);
-      } else if (line.front() == '[') {
-        note("grbl: " + line);
-      } else {
-        note("unrecognised reply from grbl: '" + line + "' (ignored)");
-      }
-    }
-  } catch (const TransportError& e) {
-    sync_journal();
-    throw;
-  }
-  if (journal) journal->done();
-  res.completed = true;
-  res.seconds = std::chrono::duration<double>(clock::now() - t0).count();
-  pg.lines_acked = job.lines.size();
-  report();
-  return res;
+  return JobRun(*this, job, start, preamble, journal, progress, controls).run();
 }
 
 std::vector<std::pair<long, int>> Streamer::check_job(const Job& job) {
-  t_.write("$C\n");
-  for (;;) {
-    std::string r = reply_line(Millis(5000));
-    if (r == "ok") break;
-    if (r.rfind("error:", 0) == 0) throw UserError("grbl refused check mode ($C): " + error_meaning(std::atoi(r.c_str() + 6)));
-  }
+  const Reply entered = classify_reply(system_command("$C", Millis(5000)));
+  if (entered.kind == ReplyKind::Error) throw UserError("grbl refused check mode ($C): " + error_meaning(entered.code));
   Options keep = o_;
   o_.skip_errors = true;
   o_.log = {};
@@ -499,10 +489,7 @@ std::vector<std::pair<long, int>> Streamer::check_job(const Job& job) {
   o_ = keep;
   // Leaving check mode soft-resets grbl.
   t_.write("$C\n");
-  auto end = clock::now() + o_.banner_timeout;
-  std::string line;
-  while (clock::now() < end)
-    if (reader_.read_line(line, Millis(100)) && line.rfind("Grbl ", 0) == 0) break;
+  wait_for_banner(o_.banner_timeout);
   reader_.clear();
   return res.errors;
 }

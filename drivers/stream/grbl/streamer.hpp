@@ -13,15 +13,13 @@
 #include "drivers/job/gcode_reader.hpp"
 #include "drivers/job/job.hpp"
 #include "drivers/stream/device_error.hpp"
+#include "drivers/stream/grbl/protocol.hpp"
 #include "drivers/stream/journal.hpp"
 #include "drivers/stream/resume.hpp"
 #include "drivers/stream/stream.hpp"
 #include "drivers/transport/transport.hpp"
 
 namespace stipplot::io::grbl {
-
-enum class Mode { CharacterCounting, SendAndWait };
-Mode parse_mode(const std::string& s);  // "counting" | "wait"
 
 struct Options {
   Mode mode = Mode::CharacterCounting;
@@ -42,14 +40,6 @@ struct Options {
 
 // The profile's RX buffer and planner size.
 Options options_for(const DeviceProfile& p);
-
-struct Status {
-  std::string state;  // Idle, Run, Hold:0, Alarm, Check, ...
-  double x = 0, y = 0, z = 0;
-  int blocks_free = -1, bytes_free = -1;
-  double feed = 0, spindle = 0;
-};
-bool parse_status(const std::string& line, Status& s);
 
 // What the profile expects of the machine, checked against $$.
 struct Expectations {
@@ -82,8 +72,13 @@ class Streamer {
   std::vector<std::pair<long, int>> check_job(const Job& job);
 
  private:
+  class JobRun;  // one stream() call: sending, answers, controls
   void note(const std::string& s);
-  std::string reply_line(Millis timeout);
+  // Reads lines until grbl's start-up banner, at most `timeout`; false if none came.
+  bool wait_for_banner(Millis timeout, Millis slice = Millis(100));
+  // Sends a '$' command and returns its answer (ok or error:N), waiting at most
+  // `timeout` for each line; the lines grbl prints before the answer go to `lines`.
+  std::string system_command(const std::string& cmd, Millis timeout, std::vector<std::string>* lines = nullptr);
   Transport& t_;
   Options o_;
   LineReader reader_;
