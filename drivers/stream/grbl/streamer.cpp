@@ -309,7 +309,10 @@ class Streamer::JobRun {
     session_.acknowledge(line);
     if (session_.job().lines[static_cast<size_t>(line)].motion) {
       acked_motion_.push_back(line);
-      if (acked_motion_.size() > 64) acked_motion_.pop_front();
+      ++motion_acked_;
+      // Older moves than the snapshot's planner could hold are known executed.
+      while (motion_acked_ - acked_motion_.size() + static_cast<size_t>(o_.planner_blocks) < snapshot_.motion_acked)
+        acked_motion_.pop_front();
     }
   }
 
@@ -381,7 +384,7 @@ class Streamer::JobRun {
   void on_status(const std::string& line) {
     Status st;
     if (!parse_status(line, st)) return;
-    s_.last_status_ = st;
+    take_snapshot(st);
     report();
     if (st.state.rfind("Alarm", 0) == 0) {
       rollback_to_executed();
@@ -424,14 +427,26 @@ class Streamer::JobRun {
     idle_polls_ = 0;
   }
 
-  // The last job line grbl has executed: acknowledged lines may still wait in its
-  // planner, and a reset (ours, an alarm's, a power loss) discards them.
+  // A status report and what had been acknowledged when it came. grbl prints answers
+  // and reports in the order things happen, so the blocks in its planner then are the
+  // newest moves acknowledged before the report; moves acknowledged after it may or may
+  // not have run since.
+  void take_snapshot(const Status& st) {
+    s_.last_status_ = st;
+    snapshot_ = {motion_acked_, session_.result().last_acked, st.blocks_free};
+  }
+
+  // The last job line grbl has surely executed (as of the latest status report):
+  // acknowledged lines may still wait in its planner, and a reset (ours, an alarm's, a
+  // power loss) discards them. Erring early only draws a move twice; erring late would
+  // lose it.
   long executed_estimate() const {
-    const Status& st = s_.last_status_;
-    int in_planner = st.blocks_free >= 0 ? o_.planner_blocks - st.blocks_free : o_.planner_blocks;
-    in_planner = std::clamp(in_planner, 0, static_cast<int>(acked_motion_.size()));
-    if (in_planner == 0) return session_.result().last_acked;
-    return acked_motion_[acked_motion_.size() - static_cast<size_t>(in_planner)] - 1;
+    int in_planner = snapshot_.blocks_free >= 0 ? o_.planner_blocks - snapshot_.blocks_free : o_.planner_blocks;
+    const size_t first_kept = motion_acked_ - acked_motion_.size();  // acked_motion_[0]'s number
+    const size_t known = snapshot_.motion_acked - first_kept;        // kept moves acked before the report
+    in_planner = std::clamp(in_planner, 0, static_cast<int>(known));
+    if (in_planner == 0) return snapshot_.last_acked;
+    return acked_motion_[known - static_cast<size_t>(in_planner)] - 1;
   }
 
   // After grbl lost its buffers: the journal and the result go back to what was executed.
@@ -444,16 +459,42 @@ class Streamer::JobRun {
   StreamResult abort() {
     s_.t_.write("!");
     std::this_thread::sleep_for(Millis(200));
-    try {
-      s_.query_status(Millis(2000));
-    } catch (const TransportError&) {
-    }
+    status_after_hold(Millis(2000));
     s_.soft_reset();
     const long done = rollback_to_executed();
     StreamResult res = session_.finish();
     s_.note("job aborted; the machine was reset. Resume continues after line " + std::to_string(done + 1));
     return res;
   }
+
+  // A status report taken once the hold has stopped the machine, with every answer before
+  // it counted, so the snapshot is what grbl holds now.
+  void status_after_hold(Millis timeout) {
+    const auto end = clock::now() + timeout;
+    bool asked = false;
+    std::string line;
+    while (clock::now() < end) {
+      if (!s_.reader_.read_line(line, Millis(20))) {
+        if (!asked) s_.t_.write("?");  // what was on its way has arrived: ask
+        asked = true;
+        continue;
+      }
+      const Reply r = classify_reply(line);
+      if (r.answers_a_line() && !window_.empty()) {
+        const LineWindow::Line l = window_.answered();
+        if (r.kind == ReplyKind::Ok) acknowledge(l);
+      } else if (Status st; r.kind == ReplyKind::Status && parse_status(line, st)) {
+        take_snapshot(st);
+        if (asked) return;
+      }
+    }
+  }
+
+  struct Snapshot {
+    size_t motion_acked = 0;  // moves acknowledged when the report came
+    long last_acked = -1;     // the last line acknowledged then
+    int blocks_free = -1;     // what the report said (-1: it did not say)
+  };
 
   Streamer& s_;
   const Options& o_;
@@ -462,6 +503,8 @@ class Streamer::JobRun {
   LineWindow window_;
   size_t next_ = 0;                 // next item to send
   std::deque<long> acked_motion_;   // acknowledged motion lines not yet known executed
+  size_t motion_acked_ = 0;         // moves acknowledged in all (acked_motion_ keeps the last)
+  Snapshot snapshot_{0, session_.result().last_acked, -1};
   clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_;
   int idle_polls_ = 0;
   bool paused_ = false, finishing_ = false;
