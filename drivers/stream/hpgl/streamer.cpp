@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "drivers/stream/device_error.hpp"
+#include "drivers/stream/session.hpp"
 
 namespace stipplot::io::hpgl {
 
@@ -103,160 +104,175 @@ void Streamer::connect() {
   while (query('B') < buffer_ && clock::now() < end) std::this_thread::sleep_for(Millis(50));
 }
 
-StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
-                              const ProgressFn& progress, StreamControls* controls) {
-  StreamResult res;
-  res.last_acked = journal ? journal->last_acked() : static_cast<long>(start) - 1;
-  // The whole byte stream, and where each job line ends in it.
-  std::string data;
-  std::vector<std::pair<size_t, long>> ends;  // (end offset, job index)
-  auto add = [&](const std::string& text, long idx) {
-    data += text;
-    if (o_.newline) data += '\n';
-    ends.push_back({data.size(), idx});
-  };
-  for (const auto& p : preamble) add(p, -1);
-  for (size_t i = start; i < job.lines.size(); ++i) add(job.lines[i].text, static_cast<long>(i));
-  size_t sent = 0, acked_upto = 0;  // acked_upto: entries of `ends` done
-  auto t0 = clock::now();
-  StreamProgress pg;
-  pg.lines_total = job.lines.size();
-  double est_done = 0;
-  auto ack_bytes = [&](size_t executed) {
-    while (acked_upto < ends.size() && ends[acked_upto].first <= executed) {
-      long idx = ends[acked_upto].second;
-      if (idx >= 0) {
-        res.last_acked = idx;
-        ++res.lines_acked;
-        est_done += job.lines[static_cast<size_t>(idx)].est_s;
-        if (journal) journal->ack(static_cast<size_t>(idx));
+// One stream() call. HPGL has no per-line answer: a line counts as done once the
+// plotter's buffer has taken it past (ESC.B) or, without buffer queries, once written.
+class Streamer::JobRun {
+ public:
+  JobRun(Streamer& s, const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
+         const ProgressFn& progress, StreamControls* controls)
+      : s_(s), o_(s.o_), session_(job, start, preamble, journal, progress), controls_(controls) {
+    // The whole byte stream, and where each item ends in it.
+    for (size_t i = 0; i < session_.items(); ++i) {
+      data_ += session_.text(i);
+      if (o_.newline) data_ += '\n';
+      ends_.push_back(data_.size());
+    }
+  }
+
+  StreamResult run() {
+    try {
+      const bool aborted = o_.handshake == HpglHandshake::buffer_query ? !stream_polled() : !stream_paced();
+      if (aborted) {
+        session_.sync_journal();
+        return session_.result();
       }
-      ++acked_upto;
+      check_status(true);
+    } catch (const TransportError&) {
+      session_.sync_journal();
+      throw;
+    } catch (const DeviceError&) {
+      session_.sync_journal();
+      throw;
     }
-    if (progress) {
-      pg.elapsed_s = std::chrono::duration<double>(clock::now() - t0).count();
-      pg.lines_acked = res.last_acked + 1 > 0 ? static_cast<size_t>(res.last_acked + 1) : 0;
-      size_t k = static_cast<size_t>(std::upper_bound(ends.begin(), ends.end(), std::make_pair(sent, LONG_MAX)) - ends.begin());
-      pg.lines_sent = start + (k > preamble.size() ? k - preamble.size() : 0);
-      double ratio = est_done > 0.5 && pg.elapsed_s > 1 ? pg.elapsed_s / est_done : 1.0;
-      pg.eta_s = std::max(0.0, job.est_total_s - est_done) * ratio;
-      progress(pg);
+    session_.complete();
+    return session_.finish();
+  }
+
+ private:
+  using clock = std::chrono::steady_clock;
+
+  bool abort_requested() { return controls_ && controls_->abort.exchange(false); }
+
+  // Items whose bytes all lie within the first `executed` bytes are done.
+  void acknowledge_through(size_t executed) {
+    while (acked_upto_ < ends_.size() && ends_[acked_upto_] <= executed) {
+      const long line = session_.job_line(acked_upto_);
+      if (line >= 0) session_.acknowledge(line);
+      ++acked_upto_;
     }
-  };
-  auto check_status = [&](bool final) {
+    const size_t items_sent = static_cast<size_t>(std::upper_bound(ends_.begin(), ends_.end(), sent_) - ends_.begin());
+    session_.report(items_sent);
+  }
+
+  // ESC.B: send at most the free space (less a reserve); what the buffer no longer holds
+  // has been drawn. False if aborted.
+  bool stream_polled() {
+    auto last_status = clock::now();
+    for (;;) {
+      if (abort_requested()) {
+        s_.t_.write("\x1b.K");  // abort graphics: drop the plotter's buffer
+        return false;
+      }
+      const int free = s_.query('B');
+      const size_t in_buffer = static_cast<size_t>(std::max(0, s_.buffer_ - free));
+      acknowledge_through(sent_ > in_buffer ? sent_ - in_buffer : 0);
+      if (sent_ == data_.size() && free >= s_.buffer_) return true;
+      if (clock::now() - last_status > Millis(500)) {
+        check_status(false);
+        last_status = clock::now();
+      }
+      const bool paused = controls_ && controls_->pause.load();
+      const size_t room = free > o_.reserve ? static_cast<size_t>(free - o_.reserve) : 0;
+      const size_t chunk = paused ? 0 : std::min(room, data_.size() - sent_);
+      if (chunk > 0) {
+        s_.t_.write(std::string_view(data_).substr(sent_, chunk));
+        sent_ += chunk;
+      } else {
+        std::this_thread::sleep_for(o_.poll_interval);
+      }
+    }
+  }
+
+  // XON/XOFF or hardware handshake: write in small pieces, watching for XOFF between
+  // them; then wait until the plotter has drawn it all. False if aborted.
+  bool stream_paced() {
+    while (sent_ < data_.size()) {
+      if (abort_requested()) return false;
+      s_.pump(Millis(0));
+      if (o_.handshake == HpglHandshake::xonxoff && s_.xoff_) {
+        if (clock::now() - s_.xoff_since_ > o_.not_ready_timeout)
+          throw TransportError(TransportError::Kind::Timeout,
+                               "the plotter held XOFF for " + std::to_string(o_.not_ready_timeout.count() / 1000) + " s");
+        s_.pump(Millis(20));
+        continue;
+      }
+      const size_t chunk = std::min<size_t>(64, data_.size() - sent_);
+      s_.t_.write(std::string_view(data_).substr(sent_, chunk), Millis(60000));
+      sent_ += chunk;
+      acknowledge_through(sent_);  // without per-line acknowledgement, a line counts as done once written
+    }
+    if (o_.status_queries) wait_drawn();
+    return true;
+  }
+
+  // Until the plotter has drawn everything, or reports an error (then OE in
+  // check_status names it), or stops consuming data (an incomplete instruction left
+  // after lost bytes would hold its buffer forever).
+  void wait_drawn() {
+    int last_free = -1;
+    auto since = clock::now();
+    for (;;) {
+      if (s_.query('O') & (8 | 32)) return;
+      const int free = s_.query('B');
+      if (free != last_free) {
+        last_free = free;
+        since = clock::now();
+      } else if (clock::now() - since > o_.not_ready_timeout) {
+        throw DeviceError("the plotter stopped taking data with " + std::to_string(s_.buffer_ - free) +
+                              " bytes in its buffer (bytes lost to a late XOFF?)",
+                          session_.result().last_acked, 0, false);
+      }
+      std::this_thread::sleep_for(Millis(50));
+    }
+  }
+
+  // ESC.O: waits out "not ready" (paper lever, view mode) up to not_ready_timeout; on an
+  // error bit, or at the end, asks OE and stops on an error.
+  void check_status(bool final) {
     if (!o_.status_queries) return;
-    int st = query('O');
+    const long last = session_.result().last_acked;
+    int st = s_.query('O');
     if (st & 16) {
       auto since = clock::now();
       while (st & 16) {
         if (clock::now() - since > o_.not_ready_timeout)
           throw DeviceError("the plotter is not ready (paper lever raised or view mode?) and stayed so for " +
-                                      std::to_string(o_.not_ready_timeout.count() / 1000) + " s; resume when it is ready",
-                                  res.last_acked, 16, true);
+                                std::to_string(o_.not_ready_timeout.count() / 1000) + " s; resume when it is ready",
+                            last, 16, true);
         std::this_thread::sleep_for(Millis(100));
-        st = query('O');
+        st = s_.query('O');
       }
     }
-    if (st & 32 || final) {
-      // OE goes through the plotter's buffer: if that is stuck (lost bytes left an
-      // unfinished instruction), OE would never be answered.
-      if ((st & 32) && !(st & 8) && query('B') < buffer_ && final)
-        throw DeviceError("the plotter reports an error and its buffer holds an unfinished instruction "
-                                "(bytes lost to a late XOFF or no handshake?); the job is incomplete",
-                                res.last_acked, 7, false);
-      t_.write(o_.newline ? "OE;\n" : "OE;");
-      std::string r;
-      if (!read_reply(r, Millis(30000)))
-        throw TransportError(TransportError::Kind::Timeout, "the plotter on " + t_.describe() + " does not answer OE");
-      int code = std::atoi(r.c_str());
-      if (code != 0)
-        throw DeviceError("the plotter reports HP-GL error " + std::to_string(code) + " (" + error_meaning(code) +
-                                    ") after line " + std::to_string(res.last_acked + 1),
-                                res.last_acked, code, false);
-    }
-  };
-  try {
-    auto last_status = clock::now();
-    if (o_.handshake == HpglHandshake::buffer_query) {
-      for (;;) {
-        if (controls && controls->abort.exchange(false)) {
-          t_.write("\x1b.K");  // abort graphics: drop the plotter's buffer
-          if (journal) journal->sync();
-          return res;
-        }
-        int free = query('B');
-        size_t in_buffer = static_cast<size_t>(std::max(0, buffer_ - free));
-        ack_bytes(sent > in_buffer ? sent - in_buffer : 0);
-        if (sent == data.size() && free >= buffer_) break;
-        if (clock::now() - last_status > Millis(500)) {
-          check_status(false);
-          last_status = clock::now();
-        }
-        bool paused = controls && controls->pause.load();
-        size_t room = free > o_.reserve ? static_cast<size_t>(free - o_.reserve) : 0;
-        size_t chunk = paused ? 0 : std::min(room, data.size() - sent);
-        if (chunk > 0) {
-          t_.write(std::string_view(data).substr(sent, chunk));
-          sent += chunk;
-        } else {
-          std::this_thread::sleep_for(o_.poll_interval);
-        }
-      }
-    } else {
-      // XON/XOFF or hardware: write in small pieces, watching for XOFF between them.
-      while (sent < data.size()) {
-        if (controls && controls->abort.exchange(false)) {
-          if (journal) journal->sync();
-          return res;
-        }
-        pump(Millis(0));
-        if (o_.handshake == HpglHandshake::xonxoff && xoff_) {
-          if (clock::now() - xoff_since_ > o_.not_ready_timeout)
-            throw TransportError(TransportError::Kind::Timeout, "the plotter held XOFF for " +
-                                                                    std::to_string(o_.not_ready_timeout.count() / 1000) + " s");
-          pump(Millis(20));
-          continue;
-        }
-        size_t chunk = std::min<size_t>(64, data.size() - sent);
-        t_.write(std::string_view(data).substr(sent, chunk), Millis(60000));
-        sent += chunk;
-        // Without per-line acknowledgement, a line counts as done once written.
-        ack_bytes(sent);
-      }
-      if (o_.status_queries) {
-        // Wait until the plotter has drawn everything, or reports an error (then OE
-        // below names it), or stops consuming data (an incomplete instruction left
-        // after lost bytes would hold its buffer forever).
-        int last_free = -1;
-        auto since = clock::now();
-        for (;;) {
-          int st = query('O');
-          if (st & (8 | 32)) break;
-          int free = query('B');
-          if (free != last_free) {
-            last_free = free;
-            since = clock::now();
-          } else if (clock::now() - since > o_.not_ready_timeout) {
-            throw DeviceError("the plotter stopped taking data with " + std::to_string(buffer_ - free) +
-                                        " bytes in its buffer (bytes lost to a late XOFF?)",
-                                    res.last_acked, 0, false);
-          }
-          std::this_thread::sleep_for(Millis(50));
-        }
-      }
-    }
-    check_status(true);
-  } catch (const TransportError&) {
-    if (journal) journal->sync();
-    throw;
-  } catch (const DeviceError&) {
-    if (journal) journal->sync();
-    throw;
+    if (!(st & 32) && !final) return;
+    // OE goes through the plotter's buffer: if that is stuck (lost bytes left an
+    // unfinished instruction), OE would never be answered.
+    if ((st & 32) && !(st & 8) && s_.query('B') < s_.buffer_ && final)
+      throw DeviceError("the plotter reports an error and its buffer holds an unfinished instruction "
+                        "(bytes lost to a late XOFF or no handshake?); the job is incomplete",
+                        last, 7, false);
+    s_.t_.write(o_.newline ? "OE;\n" : "OE;");
+    std::string r;
+    if (!s_.read_reply(r, Millis(30000)))
+      throw TransportError(TransportError::Kind::Timeout, "the plotter on " + s_.t_.describe() + " does not answer OE");
+    const int code = std::atoi(r.c_str());
+    if (code != 0)
+      throw DeviceError("the plotter reports HP-GL error " + std::to_string(code) + " (" + error_meaning(code) +
+                            ") after line " + std::to_string(last + 1),
+                        last, code, false);
   }
-  if (journal) journal->done();
-  res.completed = true;
-  res.seconds = std::chrono::duration<double>(clock::now() - t0).count();
-  return res;
+
+  Streamer& s_;
+  const Options& o_;
+  StreamSession session_;
+  StreamControls* controls_;
+  std::string data_;
+  std::vector<size_t> ends_;  // end offset of each item in data_
+  size_t sent_ = 0, acked_upto_ = 0;
+};
+
+StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
+                              const ProgressFn& progress, StreamControls* controls) {
+  return JobRun(*this, job, start, preamble, journal, progress, controls).run();
 }
 
 }  // namespace stipplot::io::hpgl

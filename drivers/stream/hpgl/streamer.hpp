@@ -48,6 +48,7 @@ class Streamer {
   int buffer_bytes() const { return buffer_; }
 
  private:
+  class JobRun;  // one stream() call
   bool read_reply(std::string& out, Millis timeout);
   void pump(Millis timeout);  // reads incoming bytes: XON/XOFF and reply text
   void note(const std::string& s) {
