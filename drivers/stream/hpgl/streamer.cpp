@@ -124,7 +124,7 @@ class Streamer::JobRun {
       const bool aborted = o_.handshake == HpglHandshake::buffer_query ? !stream_polled() : !stream_paced();
       if (aborted) {
         session_.sync_journal();
-        return session_.result();
+        return session_.finish();
       }
       check_status(true);
     } catch (const TransportError&) {
