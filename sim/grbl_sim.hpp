@@ -58,10 +58,28 @@ class GrblSim final : public SimDevice {
     // set when it starts:
     double v_entry = 0, v_exit = 0, duration = 0, elapsed = 0;
   };
+  // What a line asks for, on a copy of the modal state.
+  struct LineEffect {
+    int motion = 0;
+    bool absolute = true, inches = false;
+    double feed = 0, s_val = 0;
+    bool spindle_on = false;
+    bool dwell = false, m0 = false, m2 = false, spindle_cmd = false, have_p = false;
+    double p = 0;
+    bool ax[3] = {false, false, false};
+    double val[3] = {0, 0, 0};
+    double target[3] = {0, 0, 0};  // where the axes go (mm, machine)
+    bool axes() const { return ax[0] || ax[1] || ax[2]; }
+  };
   void process(double t);                      // parse lines from RX while possible
   enum class Result { Done, Blocked };
   Result execute_line(const std::string& line, double t);
   Result execute_system(const std::string& line, double t);
+  int interpret(const std::string& line, LineEffect& e) const;
+  Result accept(const LineEffect& e, long no, double t);
+  void queue_move(const double target[3], double feed_mm_s, double t);
+  bool outside_soft_limits(const double target[3]);
+  void reply(long no, const std::string& r, double t);  // with the reply faults of line `no`
   void start_block(double t);
   void finish_block(double t);
   void reset(double t);

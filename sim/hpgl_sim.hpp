@@ -44,6 +44,8 @@ class HpglSim final : public SimDevice {
 
  private:
   void start_next(double t);
+  size_t complete_instruction() const;
+  double execute(const std::string& mn, const std::vector<double>& nums, double t);
   void query_reply(const std::string& r, double t);
   void device_control(char cmd, double t);
   void check_flow(double t);
