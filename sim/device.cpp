@@ -5,10 +5,10 @@
 
 namespace stipplot::sim {
 
-SimDevice::SimDevice(double speedup, LinkModel link, Faults faults)
-    : faults_(faults), linkm_(link), speedup_(speedup), t0_(std::chrono::steady_clock::now()) {
-  if (!(speedup > 0) || !std::isfinite(speedup)) throw UserError("--speedup must be a positive number");
-  if (link.baud < 0 || link.latency_ms < 0) throw UserError("simulated link: baud and latency must be >= 0");
+SimDevice::SimDevice(const SimRun& run)
+    : faults_(run.faults), linkm_(run.link), speedup_(run.speedup), t0_(std::chrono::steady_clock::now()) {
+  if (!(speedup_ > 0) || !std::isfinite(speedup_)) throw UserError("--speedup must be a positive number");
+  if (linkm_.baud < 0 || linkm_.latency_ms < 0) throw UserError("simulated link: baud and latency must be >= 0");
 }
 
 SimDevice::~SimDevice() { stop(); }

@@ -39,6 +39,13 @@ struct Faults {
   long alarm_line = -1;      // line K raises an alarm (grbl ALARM:1, HPGL not-ready)
 };
 
+// How a simulator runs, whatever it simulates: its clock, its wire, its faults.
+struct SimRun {
+  double speedup = 1;  // device time runs this many times faster than real time
+  LinkModel link;
+  Faults faults;
+};
+
 struct SimStats {
   double busy_start = -1, busy_end = -1;  // device seconds: first motion start, last motion end
   double starved_s = 0;   // machine idle with nothing to do between those (waiting for data)
@@ -51,7 +58,7 @@ struct SimStats {
 
 class SimDevice {
  public:
-  SimDevice(double speedup, LinkModel link, Faults faults);
+  explicit SimDevice(const SimRun& run);
   virtual ~SimDevice();
   SimDevice(const SimDevice&) = delete;
   SimDevice& operator=(const SimDevice&) = delete;

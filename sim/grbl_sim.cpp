@@ -56,7 +56,7 @@ GrblSimConfig grbl_sim_config(const DeviceProfile& p) {
   return c;
 }
 
-GrblSim::GrblSim(const GrblSimConfig& cfg) : SimDevice(cfg.speedup, cfg.link, cfg.faults), cfg_(cfg) {
+GrblSim::GrblSim(const GrblSimConfig& cfg) : SimDevice(cfg), cfg_(cfg) {
   const MotionParams& m = cfg.motion;
   if (!(m.accel_mm_s2 > 0) || !(m.speed_up_mm_s > 0) || !(m.speed_down_mm_s > 0))
     throw UserError("simulated grbl: speeds and acceleration must be > 0");

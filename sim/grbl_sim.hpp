@@ -18,16 +18,13 @@
 
 namespace stipplot::sim {
 
-struct GrblSimConfig {
+struct GrblSimConfig : SimRun {
   MotionParams motion;       // speeds, acceleration, junction deviation, planner size
   double z_speed_mm_s = 20, z_accel_mm_s2 = 500;
   double travel_x = 300, travel_y = 300, travel_z = 50;  // soft-limit box: [0,X] x [0,Y] x [-Z,Z]
   bool soft_limits = false;  // $20 (needs $22 homing, as real grbl)
   io::GcodePenRule pen;      // which spindle/Z states mean "pen down"
   int rx_buffer = 128;
-  double speedup = 1;
-  LinkModel link;
-  Faults faults;
 };
 
 // The simulator of the device a profile describes: its motion, pen rule, travel and RX

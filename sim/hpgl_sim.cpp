@@ -35,7 +35,7 @@ HpglSimConfig hpgl_sim_config(const DeviceProfile& p) {
 }
 
 HpglSim::HpglSim(const HpglSimConfig& cfg)
-    : SimDevice(cfg.speedup, cfg.link, cfg.faults), cfg_(cfg), vs_mm_s_(cfg.motion.speed_down_mm_s) {
+    : SimDevice(cfg), cfg_(cfg), vs_mm_s_(cfg.motion.speed_down_mm_s) {
   if (cfg.buffer_bytes < 64) throw UserError("simulated HPGL plotter: buffer must be at least 64 bytes");
   if (!(cfg.units_per_mm > 0)) throw UserError("simulated HPGL plotter: units per mm must be > 0");
   if (cfg.xoff_free >= cfg.xon_free || cfg.xon_free > cfg.buffer_bytes)

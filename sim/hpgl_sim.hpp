@@ -13,15 +13,12 @@
 
 namespace stipplot::sim {
 
-struct HpglSimConfig {
+struct HpglSimConfig : SimRun {
   MotionParams motion;        // mm/s, mm/s^2; VS overrides the pen-down speed
   double units_per_mm = 40;   // HP plotter units: 0.025 mm
   int buffer_bytes = 1024;
   bool xonxoff = false;       // send XOFF when fewer than xoff_free bytes are free, XON above xon_free
   int xoff_free = 128, xon_free = 512;
-  double speedup = 1;
-  LinkModel link;
-  Faults faults;
 };
 
 // The simulator of the device a profile describes: its motion, plotter units, buffer

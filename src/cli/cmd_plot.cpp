@@ -141,16 +141,14 @@ PlotLink open_link(const PlotArgs& A, const PlotJob& pj) {
     link.port = io::open_port(link.port_name, dev.serial.port);
     return link;
   }
-  const sim::LinkModel wire{A.sim_baud, A.sim_latency_ms};
+  const sim::SimRun run{A.sim_speedup, {A.sim_baud, A.sim_latency_ms}, {}};
   if (pj.grbl()) {
     sim::GrblSimConfig c = sim::grbl_sim_config(dev);
-    c.speedup = A.sim_speedup;
-    c.link = wire;
+    static_cast<sim::SimRun&>(c) = run;
     link.sim = std::make_unique<sim::GrblSim>(c);
   } else {
     sim::HpglSimConfig c = sim::hpgl_sim_config(dev);
-    c.speedup = A.sim_speedup;
-    c.link = wire;
+    static_cast<sim::SimRun&>(c) = run;
     link.sim = std::make_unique<sim::HpglSim>(c);
   }
   link.port_name = link.sim->open_pty();
