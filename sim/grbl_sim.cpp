@@ -544,9 +544,10 @@ void GrblSim::status(double t) {
        t);
 }
 
-void GrblSim::reset(double t) {
-  bool moving = current_.has_value() && !hold_;
-  if (current_) {  // stopped where it was: the machine position is now mid-block
+// The machine stops where it is (the machine position is now mid-block); the planner,
+// the receive buffer and a dwell are dropped, and the spindle (the pen) goes off.
+void GrblSim::halt() {
+  if (current_) {
     double x, y, z;
     position_in_block(*current_, current_->elapsed, x, y, z);
     mx_ = x, my_ = y, mz_ = z;
@@ -555,15 +556,20 @@ void GrblSim::reset(double t) {
   planner_.clear();
   rx_.clear();
   line_.reset();
+  dwell_until_ = 0;
+  spindle_on_ = false;
+  set_pen(pen_down_state());
+}
+
+void GrblSim::reset(double t) {
+  bool moving = current_.has_value() && !hold_;
+  halt();
   hold_ = pause_m0_ = check_ = need_reset_ = false;
   spindle_stopped_in_hold_ = false;
-  dwell_until_ = 0;
   dwell_ok_pending_ = false;
   stall_until_ = 0;
   prev_exit_v_ = 0;
   have_last_dir_ = false;
-  spindle_on_ = false;
-  set_pen(pen_down_state());
   {
     std::lock_guard lk(m_);
     rec_.move(mx_, my_);
@@ -588,18 +594,7 @@ void GrblSim::alarm(int code, double t) {
     std::lock_guard lk(m_);
     ++stats_.alarms;
   }
-  if (current_) {
-    double x, y, z;
-    position_in_block(*current_, current_->elapsed, x, y, z);
-    mx_ = x, my_ = y, mz_ = z;
-  }
-  current_.reset();
-  planner_.clear();
-  rx_.clear();
-  line_.reset();
-  dwell_until_ = 0;
-  spindle_on_ = false;
-  set_pen(pen_down_state());
+  halt();
   alarm_ = true;
   need_reset_ = true;
   mark_paused();

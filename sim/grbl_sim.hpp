@@ -79,6 +79,7 @@ class GrblSim final : public SimDevice {
   void reply(long no, const std::string& r, double t);  // with the reply faults of line `no`
   void start_block(double t);
   void finish_block(double t);
+  void halt();
   void reset(double t);
   void alarm(int code, double t);
   void status(double t);

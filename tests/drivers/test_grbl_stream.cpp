@@ -12,6 +12,7 @@
 #include "drivers/stream/journal.hpp"
 #include "drivers/stream/resume.hpp"
 #include "drivers/transport/posix_serial.hpp"
+#include "fast_sim.hpp"
 #include "jobgen.hpp"
 #include "sim/grbl_sim.hpp"
 
@@ -20,12 +21,7 @@ using namespace stipplot::io;
 
 namespace {
 
-sim::GrblSimConfig fast_config(sim::Faults f = {}) {
-  sim::GrblSimConfig c;
-  c.speedup = 40;
-  c.faults = f;
-  return c;
-}
+sim::GrblSimConfig fast_config(sim::Faults f = {}) { return testjob::fast_sim<sim::GrblSimConfig>(f); }
 
 struct Run {
   std::unique_ptr<sim::GrblSim> sim;
