@@ -9,7 +9,7 @@
 
 #include "methods/stipple/stipple.hpp"
 #include "plan/emst.hpp"
-#include "plan/motion.hpp"
+#include "drivers/motion/time_model.hpp"
 #include "plan/planner.hpp"
 #include "plan/tour.hpp"
 #include "util/rng.hpp"

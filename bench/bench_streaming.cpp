@@ -15,8 +15,8 @@
 #include <cstring>
 #include <string>
 
-#include "drivers/grbl/streamer.hpp"
-#include "drivers/journal.hpp"
+#include "drivers/job/gcode_reader.hpp"
+#include "drivers/stream/grbl/streamer.hpp"
 #include "drivers/transport/posix_serial.hpp"
 #include "sim/grbl_sim.hpp"
 

@@ -13,10 +13,10 @@
 #include <filesystem>
 #include <string>
 
-#include "drivers/gcode/gcode_writer.hpp"
-#include "drivers/hpgl/hpgl_writer.hpp"
+#include "drivers/writers/gcode_writer.hpp"
+#include "drivers/writers/hpgl_writer.hpp"
 #include "svg/planned_svg.hpp"
-#include "drivers/profile.hpp"
+#include "drivers/device/profile.hpp"
 #include "svg/svg_reader.hpp"
 #include "util/rng.hpp"
 

@@ -5,25 +5,10 @@
 
 namespace stipplot::sim {
 
-void PenRecorder::pen(bool d) {
-  if (down_ && !d && !moved_) segments.push_back({x_, y_, x_, y_, pen_no_});
-  if (d && !down_) moved_ = false;
-  down_ = d;
-}
-
-void PenRecorder::move(double x, double y) {
-  if (down_ && (x != x_ || y != y_)) {
-    segments.push_back({x_, y_, x, y, pen_no_});
-    moved_ = true;
-  }
-  x_ = x;
-  y_ = y;
-}
-
-SimDevice::SimDevice(double speedup, LinkModel link, Faults faults)
-    : faults_(faults), linkm_(link), speedup_(speedup), t0_(std::chrono::steady_clock::now()) {
-  if (!(speedup > 0) || !std::isfinite(speedup)) throw UserError("--speedup must be a positive number");
-  if (link.baud < 0 || link.latency_ms < 0) throw UserError("simulated link: baud and latency must be >= 0");
+SimDevice::SimDevice(const SimRun& run)
+    : faults_(run.faults), linkm_(run.link), speedup_(run.speedup), t0_(std::chrono::steady_clock::now()) {
+  if (!(speedup_ > 0) || !std::isfinite(speedup_)) throw UserError("--speedup must be a positive number");
+  if (linkm_.baud < 0 || linkm_.latency_ms < 0) throw UserError("simulated link: baud and latency must be >= 0");
 }
 
 SimDevice::~SimDevice() { stop(); }
@@ -70,7 +55,7 @@ void SimDevice::stop() {
 
 std::vector<Segment> SimDevice::record() const {
   std::lock_guard lk(m_);
-  return rec_.segments;
+  return rec_.segments();
 }
 
 SimStats SimDevice::stats() const {

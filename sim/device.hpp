@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "drivers/journal.hpp"
+#include "drivers/job/segments.hpp"
 #include "sim/link.hpp"
 
 namespace stipplot::sim {
@@ -39,6 +39,13 @@ struct Faults {
   long alarm_line = -1;      // line K raises an alarm (grbl ALARM:1, HPGL not-ready)
 };
 
+// How a simulator runs, whatever it simulates: its clock, its wire, its faults.
+struct SimRun {
+  double speedup = 1;  // device time runs this many times faster than real time
+  LinkModel link;
+  Faults faults;
+};
+
 struct SimStats {
   double busy_start = -1, busy_end = -1;  // device seconds: first motion start, last motion end
   double starved_s = 0;   // machine idle with nothing to do between those (waiting for data)
@@ -49,26 +56,9 @@ struct SimStats {
   double starved_share() const { return plot_time() > 0 ? starved_s / plot_time() : 0; }
 };
 
-// Pen-down moves and touches, in the order drawn (same rules as io::job_segments).
-class PenRecorder {
- public:
-  void pen(bool down);
-  void move(double x, double y);
-  void set_pen_number(int n) { pen_no_ = n; }
-  bool down() const { return down_; }
-  double x() const { return x_; }
-  double y() const { return y_; }
-  std::vector<Segment> segments;
-
- private:
-  bool down_ = false, moved_ = false;
-  double x_ = 0, y_ = 0;
-  int pen_no_ = 1;
-};
-
 class SimDevice {
  public:
-  SimDevice(double speedup, LinkModel link, Faults faults);
+  explicit SimDevice(const SimRun& run);
   virtual ~SimDevice();
   SimDevice(const SimDevice&) = delete;
   SimDevice& operator=(const SimDevice&) = delete;
@@ -104,7 +94,7 @@ class SimDevice {
   void mark_paused();  // a hold or pause: idle time then is not starvation
 
   mutable std::mutex m_;  // guards rec_ and stats_ against readers on other threads
-  PenRecorder rec_;
+  io::PenTrace rec_;  // pen-down moves and touches, by the rules io::job_segments uses
   SimStats stats_;
   Faults faults_;
   LinkModel linkm_;

@@ -1,5 +1,7 @@
 #include "sim/grbl_sim.hpp"
 
+#include "drivers/device/pen_rule.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -44,7 +46,17 @@ std::string fmt3(double v) {
 
 }  // namespace
 
-GrblSim::GrblSim(const GrblSimConfig& cfg) : SimDevice(cfg.speedup, cfg.link, cfg.faults), cfg_(cfg) {
+GrblSimConfig grbl_sim_config(const DeviceProfile& p) {
+  GrblSimConfig c;
+  c.motion = p.motion;
+  c.pen = gcode_pen_rule(p);
+  c.travel_x = p.machine.travel_x_mm;
+  c.travel_y = p.machine.travel_y_mm;
+  c.rx_buffer = p.serial.rx_buffer_bytes;
+  return c;
+}
+
+GrblSim::GrblSim(const GrblSimConfig& cfg) : SimDevice(cfg), cfg_(cfg) {
   const MotionParams& m = cfg.motion;
   if (!(m.accel_mm_s2 > 0) || !(m.speed_up_mm_s > 0) || !(m.speed_down_mm_s > 0))
     throw UserError("simulated grbl: speeds and acceleration must be > 0");
@@ -188,230 +200,229 @@ void GrblSim::process(double t) {
   }
 }
 
-GrblSim::Result GrblSim::execute_line(const std::string& tagged, double t) {
-  long no = -1;
-  std::string line = tagged;
-  if (!line.empty() && line[0] == '#') {
-    auto sp = line.find(' ');
-    no = std::strtol(line.c_str() + 1, nullptr, 10);
-    line = line.substr(sp + 1);
+void GrblSim::reply(long no, const std::string& r, double t) {
+  if (no >= 0 && no == faults_.drop_reply) return;
+  if (no >= 0 && no == faults_.corrupt_reply) {
+    send("o\x8bk\r\n", t);
+    return;
   }
-  auto reply = [&](const std::string& r) {
-    if (no >= 0 && no == faults_.drop_reply) return;
-    if (no >= 0 && no == faults_.corrupt_reply) {
-      send("o\x8bk\r\n", t);
-      return;
-    }
-    if (r.rfind("error", 0) == 0) {
-      std::lock_guard lk(m_);
-      ++stats_.errors;
-    }
-    send(r + "\r\n", t);
-    ++replies_;
-  };
-  if (line.empty()) {
-    reply("ok");
-    return Result::Done;
+  if (r.rfind("error", 0) == 0) {
+    std::lock_guard lk(m_);
+    ++stats_.errors;
   }
-  if (line[0] == '$') return execute_system(line, t);
-  if (alarm_) {
-    reply("error:9");
-    return Result::Done;
-  }
-  // Words: a letter and a number each.
-  struct W {
-    char l;
-    double v;
-  };
-  std::vector<W> words;
+  send(r + "\r\n", t);
+  ++replies_;
+}
+
+namespace {
+struct Word {
+  char letter;
+  double value;
+};
+
+// A letter and a number each; 0 or grbl's error code (1: no letter, 2: bad number).
+int parse_words(const std::string& line, std::vector<Word>& words) {
   for (size_t i = 0; i < line.size();) {
     char l = line[i];
-    if (!std::isalpha(static_cast<unsigned char>(l))) {
-      reply("error:1");
-      return Result::Done;
-    }
+    if (!std::isalpha(static_cast<unsigned char>(l))) return 1;
     ++i;
     size_t s = i;
     while (i < line.size() && (std::isdigit(static_cast<unsigned char>(line[i])) || line[i] == '.' || line[i] == '-' ||
                                line[i] == '+'))
       ++i;
-    if (s == i) {
-      reply("error:2");
-      return Result::Done;
-    }
+    if (s == i) return 2;
     char* end = nullptr;
     std::string num = line.substr(s, i - s);
     double v = std::strtod(num.c_str(), &end);
-    if (!end || *end != '\0' || !std::isfinite(v)) {
-      reply("error:2");
-      return Result::Done;
-    }
+    if (!end || *end != '\0' || !std::isfinite(v)) return 2;
     words.push_back({l, v});
   }
-  // Modal and non-modal commands.
-  bool dwell = false, m0 = false, m2 = false, spindle_cmd = false, have_p = false;
-  double p = 0;
-  int motion = motion_mode_;
-  bool absolute = absolute_, inches = inches_;
-  double feed = feed_, s_val = spindle_s_;
-  bool spindle_on = spindle_on_;
-  bool ax[3] = {false, false, false};
-  double val[3] = {0, 0, 0};
-  for (const W& w : words) {
-    switch (w.l) {
+  return 0;
+}
+}  // namespace
+
+// The words of a line applied to a copy of the modal state: 0 or grbl's error code
+// (20 unsupported, 4 negative value). Nothing is committed yet.
+int GrblSim::interpret(const std::string& line, LineEffect& e) const {
+  std::vector<Word> words;
+  if (int err = parse_words(line, words)) return err;
+  e.motion = motion_mode_;
+  e.absolute = absolute_;
+  e.inches = inches_;
+  e.feed = feed_;
+  e.s_val = spindle_s_;
+  e.spindle_on = spindle_on_;
+  for (const Word& w : words) {
+    switch (w.letter) {
       case 'G': {
-        int g = static_cast<int>(std::lround(w.v * 10));
-        if (g == 0 || g == 10) motion = g / 10;
-        else if (g == 40) dwell = true;
-        else if (g == 200) inches = true;
-        else if (g == 210) inches = false;
-        else if (g == 900) absolute = true;
-        else if (g == 910) absolute = false;
-        else if (g == 170 || g == 940 || g == 540) {
-        } else {
-          reply("error:20");
-          return Result::Done;
-        }
+        int g = static_cast<int>(std::lround(w.value * 10));
+        if (g == 0 || g == 10) e.motion = g / 10;
+        else if (g == 40) e.dwell = true;
+        else if (g == 200) e.inches = true;
+        else if (g == 210) e.inches = false;
+        else if (g == 900) e.absolute = true;
+        else if (g == 910) e.absolute = false;
+        else if (g != 170 && g != 940 && g != 540) return 20;  // G17 G94 G54: accepted, no effect here
         break;
       }
       case 'M': {
-        int mm = static_cast<int>(std::lround(w.v));
-        if (mm == 0) m0 = true;
-        else if (mm == 2 || mm == 30) m2 = true;
-        else if (mm == 3 || mm == 4) spindle_on = true, spindle_cmd = true;
-        else if (mm == 5) spindle_on = false, spindle_cmd = true;
-        else if (mm == 7 || mm == 8 || mm == 9) {
-        } else {
-          reply("error:20");
-          return Result::Done;
-        }
+        int mm = static_cast<int>(std::lround(w.value));
+        if (mm == 0) e.m0 = true;
+        else if (mm == 2 || mm == 30) e.m2 = true;
+        else if (mm == 3 || mm == 4) e.spindle_on = true, e.spindle_cmd = true;
+        else if (mm == 5) e.spindle_on = false, e.spindle_cmd = true;
+        else if (mm != 7 && mm != 8 && mm != 9) return 20;  // coolant: accepted, no effect
         break;
       }
       case 'F':
-        if (w.v < 0) {
-          reply("error:4");
-          return Result::Done;
-        }
-        feed = w.v;
-        break;
       case 'S':
-        if (w.v < 0) {
-          reply("error:4");
-          return Result::Done;
-        }
-        s_val = w.v;
-        spindle_cmd = true;
+        if (w.value < 0) return 4;
+        if (w.letter == 'F') e.feed = w.value;
+        else e.s_val = w.value, e.spindle_cmd = true;
         break;
-      case 'P': p = w.v, have_p = true; break;
-      case 'N': break;
-      case 'X': ax[0] = true, val[0] = w.v; break;
-      case 'Y': ax[1] = true, val[1] = w.v; break;
-      case 'Z': ax[2] = true, val[2] = w.v; break;
+      case 'P': e.p = w.value, e.have_p = true; break;
+      case 'X': e.ax[0] = true, e.val[0] = w.value; break;
+      case 'Y': e.ax[1] = true, e.val[1] = w.value; break;
+      case 'Z': e.ax[2] = true, e.val[2] = w.value; break;
+      case 'N':
       case 'T': break;
-      default: reply("error:20"); return Result::Done;
+      default: return 20;
     }
   }
-  bool axes = ax[0] || ax[1] || ax[2];
-  if (dwell && !have_p) {
-    reply("error:28");
+  const double scale = e.inches ? 25.4 : 1;
+  double cur[3] = {px_, py_, pz_};
+  for (int k = 0; k < 3; ++k) e.target[k] = !e.ax[k] ? cur[k] : e.absolute ? e.val[k] * scale : cur[k] + e.val[k] * scale;
+  if (e.dwell && !e.have_p) return 28;
+  if (e.axes() && e.motion == 1 && (e.inches ? e.feed * 25.4 : e.feed) <= 0) return 22;
+  return 0;
+}
+
+bool GrblSim::outside_soft_limits(const double target[3]) {
+  return settings_[20] != 0 && (target[0] < -1e-9 || target[0] > settings_[130] + 1e-9 || target[1] < -1e-9 ||
+                                target[1] > settings_[131] + 1e-9 || std::abs(target[2]) > settings_[132] + 1e-9);
+}
+
+// As grbl's protocol loop: every line gets one answer (ok or error:N), except a line
+// that waits (for the planner to empty or make room, or for the cycle start after M0),
+// which is answered when it has run.
+GrblSim::Result GrblSim::execute_line(const std::string& tagged, double t) {
+  long no = -1;
+  std::string line = tagged;
+  if (!line.empty() && line[0] == '#') {  // the line number, for reply faults
+    auto sp = line.find(' ');
+    no = std::strtol(line.c_str() + 1, nullptr, 10);
+    line = line.substr(sp + 1);
+  }
+  if (line.empty()) {
+    reply(no, "ok", t);
     return Result::Done;
   }
-  if (axes && motion == 1 && (inches ? feed * 25.4 : feed) <= 0) {
-    reply("error:22");
+  if (line[0] == '$') return execute_system(line, t);
+  if (alarm_) {
+    reply(no, "error:9", t);
+    return Result::Done;
+  }
+  LineEffect e;
+  if (int err = interpret(line, e)) {
+    reply(no, "error:" + std::to_string(err), t);
     return Result::Done;
   }
   // Commands that wait for the planner to empty (grbl synchronises these).
-  bool sync = dwell || m0 || m2 || (spindle_cmd && (spindle_on != spindle_on_ || (spindle_on && s_val != spindle_s_)));
+  bool sync = e.dwell || e.m0 || e.m2 || (e.spindle_cmd && (e.spindle_on != spindle_on_ || (e.spindle_on && e.s_val != spindle_s_)));
   if (sync && machine_busy()) return Result::Blocked;
-  double scale = inches ? 25.4 : 1;
-  double target[3] = {px_, py_, pz_};
-  double cur[3] = {px_, py_, pz_};
-  for (int k = 0; k < 3; ++k)
-    if (ax[k]) target[k] = absolute ? val[k] * scale : cur[k] + val[k] * scale;
-  if (axes && !dwell) {
-    if (settings_[20] != 0 &&
-        (target[0] < -1e-9 || target[0] > settings_[130] + 1e-9 || target[1] < -1e-9 || target[1] > settings_[131] + 1e-9 ||
-         std::abs(target[2]) > settings_[132] + 1e-9)) {
+  const bool moves = e.axes() && !e.dwell;
+  if (moves) {
+    if (outside_soft_limits(e.target)) {
       alarm(2, t);
       return Result::Done;
     }
     if (!check_ && static_cast<int>(planner_.size()) + (current_ ? 1 : 0) >= cfg_.motion.lookahead_blocks)
       return Result::Blocked;
   }
-  // Accept the line: commit modal state.
-  motion_mode_ = motion;
-  absolute_ = absolute;
-  inches_ = inches;
-  feed_ = feed;
+  return accept(e, no, t);
+}
+
+// The line is accepted: its modes are committed and it runs (or queues its move).
+GrblSim::Result GrblSim::accept(const LineEffect& e, long no, double t) {
+  motion_mode_ = e.motion;
+  absolute_ = e.absolute;
+  inches_ = e.inches;
+  feed_ = e.feed;
+  const bool moves = e.axes() && !e.dwell;
   if (check_) {
-    spindle_on_ = spindle_on;
-    spindle_s_ = s_val;
-    if (axes && !dwell) px_ = target[0], py_ = target[1], pz_ = target[2];
-    reply("ok");
+    spindle_on_ = e.spindle_on;
+    spindle_s_ = e.s_val;
+    if (moves) px_ = e.target[0], py_ = e.target[1], pz_ = e.target[2];
+    reply(no, "ok", t);
     return Result::Done;
   }
-  if (spindle_cmd || m2) {
-    spindle_on_ = m2 ? false : spindle_on;
-    spindle_s_ = s_val;
+  if (e.spindle_cmd || e.m2) {
+    spindle_on_ = e.m2 ? false : e.spindle_on;
+    spindle_s_ = e.s_val;
     set_pen(pen_down_state());
   }
-  if (dwell) {
-    dwell_until_ = t + std::max(0.0, p);
+  if (e.dwell) {
+    dwell_until_ = t + std::max(0.0, e.p);
     dwell_ok_pending_ = true;
     mark_busy(t);
     dwell_no_ = no;  // ok comes when the dwell ends
     return Result::Done;
   }
-  if (m0) {
+  if (e.m0) {
     pause_m0_ = true;
     mark_paused();
     return Result::Blocked;  // ok when resumed with '~'
   }
-  if (axes) {
-    Block b{};
-    b.x0 = px_, b.y0 = py_, b.z0 = pz_;
-    b.x1 = target[0], b.y1 = target[1], b.z1 = target[2];
-    double dx = b.x1 - b.x0, dy = b.y1 - b.y0, dz = b.z1 - b.z0;
-    b.len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    if (b.len > 1e-9) {
-      b.ux = dx / b.len, b.uy = dy / b.len, b.uz = dz / b.len;
-      double rate[3] = {settings_[110] / 60, settings_[111] / 60, settings_[112] / 60};
-      double acc[3] = {settings_[120], settings_[121], settings_[122]};
-      double u[3] = {b.ux, b.uy, b.uz};
-      double vmax = kInf, amax = kInf;
-      for (int k = 0; k < 3; ++k)
-        if (std::abs(u[k]) > 1e-12) {
-          vmax = std::min(vmax, rate[k] / std::abs(u[k]));
-          amax = std::min(amax, acc[k] / std::abs(u[k]));
-        }
-      b.v_nom = motion == 0 ? vmax : std::min(vmax, feed * scale / 60);
-      b.accel = amax;
-      // Junction deviation (grbl): the corner speed a circle of deviation jd allows.
-      if (have_last_dir_ && planner_.size() + (current_ ? 1 : 0) > 0) {
-        double cos_theta = -(b.ux * last_ux_ + b.uy * last_uy_ + b.uz * last_uz_);
-        if (cos_theta > 0.999999) b.v_junction = 0;
-        else if (cos_theta < -0.999999) b.v_junction = kInf;
-        else {
-          double sin_half = std::sqrt(0.5 * (1 - cos_theta));
-          b.v_junction = std::sqrt(b.accel * settings_[11] * sin_half / (1 - sin_half));
-        }
-        b.v_junction = std::min({b.v_junction, b.v_nom, last_v_nom_});
-      } else {
-        b.v_junction = 0;
-      }
-      last_ux_ = b.ux, last_uy_ = b.uy, last_uz_ = b.uz, last_v_nom_ = b.v_nom;
-      have_last_dir_ = true;
-      planner_.push_back(b);
-      {
-        std::lock_guard lk(m_);
-        ++stats_.blocks;
-      }
-      if (!current_) start_block(t);
-    }
-    px_ = target[0], py_ = target[1], pz_ = target[2];
+  if (e.axes()) {
+    queue_move(e.target, e.motion == 0 ? -1 : e.feed * (e.inches ? 25.4 : 1) / 60, t);
+    px_ = e.target[0], py_ = e.target[1], pz_ = e.target[2];
   }
-  reply("ok");
+  reply(no, "ok", t);
   return Result::Done;
+}
+
+// A block from the parser's position to `target` at `feed_mm_s` (< 0: rapid, at the
+// axes' max rates), with grbl's junction-deviation speed at the corner into it.
+void GrblSim::queue_move(const double target[3], double feed_mm_s, double t) {
+  Block b{};
+  b.x0 = px_, b.y0 = py_, b.z0 = pz_;
+  b.x1 = target[0], b.y1 = target[1], b.z1 = target[2];
+  double dx = b.x1 - b.x0, dy = b.y1 - b.y0, dz = b.z1 - b.z0;
+  b.len = std::sqrt(dx * dx + dy * dy + dz * dz);
+  if (!(b.len > 1e-9)) return;  // grbl drops zero-length blocks
+  b.ux = dx / b.len, b.uy = dy / b.len, b.uz = dz / b.len;
+  double rate[3] = {settings_[110] / 60, settings_[111] / 60, settings_[112] / 60};
+  double acc[3] = {settings_[120], settings_[121], settings_[122]};
+  double u[3] = {b.ux, b.uy, b.uz};
+  double vmax = kInf, amax = kInf;
+  for (int k = 0; k < 3; ++k)
+    if (std::abs(u[k]) > 1e-12) {
+      vmax = std::min(vmax, rate[k] / std::abs(u[k]));
+      amax = std::min(amax, acc[k] / std::abs(u[k]));
+    }
+  b.v_nom = feed_mm_s < 0 ? vmax : std::min(vmax, feed_mm_s);
+  b.accel = amax;
+  // Junction deviation (grbl): the corner speed a circle of deviation jd allows.
+  if (have_last_dir_ && planner_.size() + (current_ ? 1 : 0) > 0) {
+    double cos_theta = -(b.ux * last_ux_ + b.uy * last_uy_ + b.uz * last_uz_);
+    if (cos_theta > 0.999999) b.v_junction = 0;
+    else if (cos_theta < -0.999999) b.v_junction = kInf;
+    else {
+      double sin_half = std::sqrt(0.5 * (1 - cos_theta));
+      b.v_junction = std::sqrt(b.accel * settings_[11] * sin_half / (1 - sin_half));
+    }
+    b.v_junction = std::min({b.v_junction, b.v_nom, last_v_nom_});
+  } else {
+    b.v_junction = 0;
+  }
+  last_ux_ = b.ux, last_uy_ = b.uy, last_uz_ = b.uz, last_v_nom_ = b.v_nom;
+  have_last_dir_ = true;
+  planner_.push_back(b);
+  {
+    std::lock_guard lk(m_);
+    ++stats_.blocks;
+  }
+  if (!current_) start_block(t);
 }
 
 void GrblSim::start_block(double t) {
@@ -533,9 +544,10 @@ void GrblSim::status(double t) {
        t);
 }
 
-void GrblSim::reset(double t) {
-  bool moving = current_.has_value() && !hold_;
-  if (current_) {  // stopped where it was: the machine position is now mid-block
+// The machine stops where it is (the machine position is now mid-block); the planner,
+// the receive buffer and a dwell are dropped, and the spindle (the pen) goes off.
+void GrblSim::halt() {
+  if (current_) {
     double x, y, z;
     position_in_block(*current_, current_->elapsed, x, y, z);
     mx_ = x, my_ = y, mz_ = z;
@@ -544,15 +556,20 @@ void GrblSim::reset(double t) {
   planner_.clear();
   rx_.clear();
   line_.reset();
+  dwell_until_ = 0;
+  spindle_on_ = false;
+  set_pen(pen_down_state());
+}
+
+void GrblSim::reset(double t) {
+  bool moving = current_.has_value() && !hold_;
+  halt();
   hold_ = pause_m0_ = check_ = need_reset_ = false;
   spindle_stopped_in_hold_ = false;
-  dwell_until_ = 0;
   dwell_ok_pending_ = false;
   stall_until_ = 0;
   prev_exit_v_ = 0;
   have_last_dir_ = false;
-  spindle_on_ = false;
-  set_pen(pen_down_state());
   {
     std::lock_guard lk(m_);
     rec_.move(mx_, my_);
@@ -577,18 +594,7 @@ void GrblSim::alarm(int code, double t) {
     std::lock_guard lk(m_);
     ++stats_.alarms;
   }
-  if (current_) {
-    double x, y, z;
-    position_in_block(*current_, current_->elapsed, x, y, z);
-    mx_ = x, my_ = y, mz_ = z;
-  }
-  current_.reset();
-  planner_.clear();
-  rx_.clear();
-  line_.reset();
-  dwell_until_ = 0;
-  spindle_on_ = false;
-  set_pen(pen_down_state());
+  halt();
   alarm_ = true;
   need_reset_ = true;
   mark_paused();

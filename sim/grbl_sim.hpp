@@ -11,22 +11,25 @@
 #include <optional>
 #include <string>
 
-#include "plan/plan.hpp"
+#include "drivers/motion/motion_params.hpp"
+#include "drivers/device/profile.hpp"
+#include "drivers/job/gcode_reader.hpp"
 #include "sim/device.hpp"
 
 namespace stipplot::sim {
 
-struct GrblSimConfig {
+struct GrblSimConfig : SimRun {
   MotionParams motion;       // speeds, acceleration, junction deviation, planner size
   double z_speed_mm_s = 20, z_accel_mm_s2 = 500;
   double travel_x = 300, travel_y = 300, travel_z = 50;  // soft-limit box: [0,X] x [0,Y] x [-Z,Z]
   bool soft_limits = false;  // $20 (needs $22 homing, as real grbl)
   io::GcodePenRule pen;      // which spindle/Z states mean "pen down"
   int rx_buffer = 128;
-  double speedup = 1;
-  LinkModel link;
-  Faults faults;
 };
+
+// The simulator of the device a profile describes: its motion, pen rule, travel and RX
+// buffer (the link, speed-up and faults are left to the caller).
+GrblSimConfig grbl_sim_config(const DeviceProfile& p);
 
 class GrblSim final : public SimDevice {
  public:
@@ -52,12 +55,31 @@ class GrblSim final : public SimDevice {
     // set when it starts:
     double v_entry = 0, v_exit = 0, duration = 0, elapsed = 0;
   };
+  // What a line asks for, on a copy of the modal state.
+  struct LineEffect {
+    int motion = 0;
+    bool absolute = true, inches = false;
+    double feed = 0, s_val = 0;
+    bool spindle_on = false;
+    bool dwell = false, m0 = false, m2 = false, spindle_cmd = false, have_p = false;
+    double p = 0;
+    bool ax[3] = {false, false, false};
+    double val[3] = {0, 0, 0};
+    double target[3] = {0, 0, 0};  // where the axes go (mm, machine)
+    bool axes() const { return ax[0] || ax[1] || ax[2]; }
+  };
   void process(double t);                      // parse lines from RX while possible
   enum class Result { Done, Blocked };
   Result execute_line(const std::string& line, double t);
   Result execute_system(const std::string& line, double t);
+  int interpret(const std::string& line, LineEffect& e) const;
+  Result accept(const LineEffect& e, long no, double t);
+  void queue_move(const double target[3], double feed_mm_s, double t);
+  bool outside_soft_limits(const double target[3]);
+  void reply(long no, const std::string& r, double t);  // with the reply faults of line `no`
   void start_block(double t);
   void finish_block(double t);
+  void halt();
   void reset(double t);
   void alarm(int code, double t);
   void status(double t);

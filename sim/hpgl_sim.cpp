@@ -1,5 +1,7 @@
 #include "sim/hpgl_sim.hpp"
 
+#include "drivers/job/hpgl_reader.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -19,8 +21,21 @@ double move_time(double len, double v, double a) {
 bool is_sep(char c) { return c == ';' || c == '\n' || c == '\r' || c == ' ' || c == '\t' || c == ','; }
 }  // namespace
 
+HpglSimConfig hpgl_sim_config(const DeviceProfile& p) {
+  HpglSimConfig c;
+  c.motion = p.motion;
+  c.units_per_mm = p.machine.units_per_mm;
+  if (p.serial.rx_buffer_bytes >= 64) c.buffer_bytes = p.serial.rx_buffer_bytes;
+  // XOFF must arrive before the host overfills the buffer: leave room for the bytes in
+  // flight (latency and the host's reaction, scaled by the speedup).
+  c.xoff_free = c.buffer_bytes * 3 / 8;
+  c.xon_free = c.buffer_bytes * 5 / 8;
+  c.xonxoff = p.hpgl.handshake == HpglHandshake::xonxoff;
+  return c;
+}
+
 HpglSim::HpglSim(const HpglSimConfig& cfg)
-    : SimDevice(cfg.speedup, cfg.link, cfg.faults), cfg_(cfg), vs_mm_s_(cfg.motion.speed_down_mm_s) {
+    : SimDevice(cfg), cfg_(cfg), vs_mm_s_(cfg.motion.speed_down_mm_s) {
   if (cfg.buffer_bytes < 64) throw UserError("simulated HPGL plotter: buffer must be at least 64 bytes");
   if (!(cfg.units_per_mm > 0)) throw UserError("simulated HPGL plotter: units per mm must be > 0");
   if (cfg.xoff_free >= cfg.xon_free || cfg.xon_free > cfg.buffer_bytes)
@@ -115,6 +130,22 @@ void HpglSim::on_byte(char c, double t) {
   if (!executing_) start_next(t);
 }
 
+// The next complete instruction at the front of the buffer: two letters, then
+// parameters up to ';' or the next letter (a label: up to ETX). Its length, or 0 while
+// it is not all there yet.
+size_t HpglSim::complete_instruction() const {
+  const bool label = std::toupper(static_cast<unsigned char>(buf_[0])) == 'L' &&
+                     std::toupper(static_cast<unsigned char>(buf_[1])) == 'B';
+  if (label) {
+    auto etx = buf_.find('\x03', 2);
+    return etx == std::string::npos ? 0 : etx + 1;
+  }
+  size_t e = 2;
+  while (e < buf_.size() && buf_[e] != ';' && !std::isalpha(static_cast<unsigned char>(buf_[e]))) ++e;
+  if (e == buf_.size()) return 0;
+  return buf_[e] == ';' ? e + 1 : e;
+}
+
 void HpglSim::start_next(double t) {
   if (executing_ || not_ready_) return;
   // Separators between instructions are consumed at once.
@@ -128,21 +159,8 @@ void HpglSim::start_next(double t) {
     if (buf_.empty()) mark_idle(t);
     return;
   }
-  // One instruction: two letters, then parameters up to ';' or the next letter.
-  size_t e = 2;
-  std::string mn = {static_cast<char>(std::toupper(static_cast<unsigned char>(buf_[0]))),
-                    static_cast<char>(std::toupper(static_cast<unsigned char>(buf_[1])))};
-  bool complete = false;
-  if (mn == "LB") {
-    auto etx = buf_.find('\x03', 2);
-    complete = etx != std::string::npos;
-    e = complete ? etx + 1 : buf_.size();
-  } else {
-    while (e < buf_.size() && buf_[e] != ';' && !std::isalpha(static_cast<unsigned char>(buf_[e]))) ++e;
-    complete = e < buf_.size();
-    if (complete && buf_[e] == ';') ++e;
-  }
-  if (!complete) {
+  const size_t e = complete_instruction();
+  if (e == 0) {
     if (free_bytes() <= 0) {  // an instruction longer than the buffer: cannot ever finish
       error_ = 7;
       buf_.clear();
@@ -150,46 +168,46 @@ void HpglSim::start_next(double t) {
     }
     return;
   }
+  std::string mn = {static_cast<char>(std::toupper(static_cast<unsigned char>(buf_[0]))),
+                    static_cast<char>(std::toupper(static_cast<unsigned char>(buf_[1])))};
   std::string params = buf_.substr(2, e - 2);
   if (!params.empty() && params.back() == ';') params.pop_back();
-  std::vector<double> nums;
-  {
-    std::string cur;
-    auto flush = [&] {
-      if (!cur.empty()) nums.push_back(std::strtod(cur.c_str(), nullptr));
-      cur.clear();
-    };
-    for (char c : params) {
-      if (is_sep(c)) flush();
-      else if ((c == '-' || c == '+') && !cur.empty()) {
-        flush();
-        cur.push_back(c);
-      } else cur.push_back(c);
-    }
-    flush();
-  }
+  const std::vector<double> nums = io::hpgl_numbers(params);
   long no = ++instr_seen_;
   {
     std::lock_guard lk(m_);
     ++stats_.lines;
   }
-  double dur = 0;
+  const bool pen_before = pen_down_;
   pending_moves_.clear();
-  const MotionParams& m = cfg_.motion;
-  bool known = true;
-  bool pen_before = pen_down_;
+  double dur = 0;
   if (no == faults_.error_line) {
     error_ = 1;
     std::lock_guard lk(m_);
     ++stats_.errors;
-    known = false;
-    mn.clear();
   } else if (no == faults_.alarm_line) {
     not_ready_ = true;
     std::lock_guard lk(m_);
     ++stats_.alarms;
     return;  // stops here, the instruction stays in the buffer
+  } else {
+    dur = execute(mn, nums, t);
   }
+  const MotionParams& m = cfg_.motion;
+  if (pen_down_ != pen_before) dur += pen_down_ ? m.pen_drop_s : m.pen_lift_s;
+  if (no == faults_.stall_line) dur += faults_.stall_ms / 1000.0;
+  exec_bytes_ = e;
+  executing_ = true;
+  busy_until_ = t + dur;
+  pending_pen_ = pen_down_;
+  mark_busy(t);
+}
+
+// What an instruction does at once (modes, replies, the pen number) and the moves it
+// leaves pending until it ends; returns how long it takes, pen moves aside.
+double HpglSim::execute(const std::string& mn, const std::vector<double>& nums, double t) {
+  const MotionParams& m = cfg_.motion;
+  double dur = 0;
   if (mn == "IN") {
     pen_down_ = false;
     absolute_ = true;
@@ -199,6 +217,9 @@ void HpglSim::start_next(double t) {
     if (nums.size() > 1) error_ = 2;
     pen_down_ = false;
     dur += m.pen_change_s > 0 ? m.pen_change_s : 1.0;  // the carousel turns
+    std::lock_guard lk(m_);
+    rec_.pen(false);
+    rec_.set_pen_number(nums.empty() ? 0 : static_cast<int>(nums[0]));
   } else if (mn == "PU" || mn == "PD" || mn == "PA" || mn == "PR") {
     if (nums.size() % 2) error_ = 2;
     if (mn == "PU") pen_down_ = false;
@@ -229,23 +250,10 @@ void HpglSim::start_next(double t) {
     query_reply(std::to_string(static_cast<long>(x_)) + "," + std::to_string(static_cast<long>(y_)) + "," +
                     (pen_down_ ? "1" : "0"),
                 t);
-  } else if (known && std::string("DF IP SC IW CS LT LB PT RO DI SI SL CA SS").find(mn) == std::string::npos) {
+  } else if (std::string("DF IP SC IW CS LT LB PT RO DI SI SL CA SS").find(mn) == std::string::npos) {
     error_ = 1;
   }
-  if (pen_down_ != pen_before) dur += pen_down_ ? m.pen_drop_s : m.pen_lift_s;
-  if (no == faults_.stall_line) dur += faults_.stall_ms / 1000.0;
-  {
-    std::lock_guard lk(m_);
-    if (mn == "SP") {
-      rec_.pen(false);
-      rec_.set_pen_number(nums.empty() ? 0 : static_cast<int>(nums[0]));
-    }
-  }
-  exec_bytes_ = e;
-  executing_ = true;
-  busy_until_ = t + dur;
-  pending_pen_ = pen_down_;
-  mark_busy(t);
+  return dur;
 }
 
 void HpglSim::advance(double t) {

@@ -7,21 +7,23 @@
 #include <deque>
 #include <string>
 
-#include "plan/plan.hpp"
+#include "drivers/device/profile.hpp"
+#include "drivers/motion/motion_params.hpp"
 #include "sim/device.hpp"
 
 namespace stipplot::sim {
 
-struct HpglSimConfig {
+struct HpglSimConfig : SimRun {
   MotionParams motion;        // mm/s, mm/s^2; VS overrides the pen-down speed
   double units_per_mm = 40;   // HP plotter units: 0.025 mm
   int buffer_bytes = 1024;
   bool xonxoff = false;       // send XOFF when fewer than xoff_free bytes are free, XON above xon_free
   int xoff_free = 128, xon_free = 512;
-  double speedup = 1;
-  LinkModel link;
-  Faults faults;
 };
+
+// The simulator of the device a profile describes: its motion, plotter units, buffer
+// and handshake (the link, speed-up and faults are left to the caller).
+HpglSimConfig hpgl_sim_config(const DeviceProfile& p);
 
 class HpglSim final : public SimDevice {
  public:
@@ -39,6 +41,8 @@ class HpglSim final : public SimDevice {
 
  private:
   void start_next(double t);
+  size_t complete_instruction() const;
+  double execute(const std::string& mn, const std::vector<double>& nums, double t);
   void query_reply(const std::string& r, double t);
   void device_control(char cmd, double t);
   void check_flow(double t);

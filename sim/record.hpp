@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "drivers/journal.hpp"
+#include "drivers/job/job.hpp"
 #include "geometry/drawing.hpp"
 
 namespace stipplot::sim {

@@ -16,9 +16,14 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/plot_job.hpp"
-#include "drivers/grbl/streamer.hpp"
-#include "drivers/hpgl/streamer.hpp"
-#include "drivers/journal.hpp"
+#include "drivers/device/pen_rule.hpp"
+#include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/hpgl_reader.hpp"
+#include "drivers/job/segments.hpp"
+#include "drivers/stream/grbl/streamer.hpp"
+#include "drivers/stream/hpgl/streamer.hpp"
+#include "drivers/stream/journal.hpp"
+#include "drivers/stream/resume.hpp"
 #include "drivers/transport/devices.hpp"
 #include "drivers/transport/posix_serial.hpp"
 #include "geometry/page.hpp"
@@ -42,6 +47,17 @@ struct PlotArgs {
   int baud = 0, rx_buffer = 128;
   double sim_speedup = 20, sim_baud = 115200, sim_latency_ms = 2;
   std::string sim_out, page = "A4";
+
+  void validate() const {
+    if (input.empty() && resume.empty()) throw UserError("give a job to plot, or --resume JOB");
+    if (sim && !port.empty()) throw UserError("--sim and --port exclude each other");
+    require_positive("--sim-speedup", sim_speedup);
+    require_nonnegative("--sim-baud", sim_baud);
+    require_nonnegative("--sim-latency-ms", sim_latency_ms);
+  }
+  void log(const std::string& s) const {
+    if (!quiet) std::fprintf(stderr, "stipplot: %s\n", s.c_str());
+  }
 };
 
 std::string read_file(const std::string& path) {
@@ -59,6 +75,279 @@ std::string hex(uint64_t v) {
 }
 
 bool stdin_tty() { return ::isatty(STDIN_FILENO) == 1; }
+
+// The job to plot, read and parsed, the device it goes to, and, on --resume, where the
+// journal says it stopped.
+struct PlotJob {
+  PreparedJob prepared;
+  bool resuming = false;
+  io::JournalState resume_state;
+  std::string hash;  // of the job text, kept in the journal
+  DeviceProfile device;
+  io::GcodePenRule pen_rule;
+  io::Job job;
+  bool grbl() const { return prepared.dialect == io::Dialect::GCode; }
+  size_t start() const { return resuming ? static_cast<size_t>(resume_state.last_acked + 1) : 0; }
+};
+
+// The command line's serial and protocol settings over the profile's.
+void apply_overrides(const PlotArgs& A, DeviceProfile& dev, bool grbl) {
+  if (A.baud > 0) dev.serial.port.baud = A.baud;
+  if (A.flow_given) dev.serial.port.flow = io::parse_flow_control(A.flow);
+  if (A.rx_buffer_given && grbl) dev.serial.rx_buffer_bytes = A.rx_buffer;
+  if (A.handshake_given) dev.hpgl.handshake = parse_hpgl_handshake(A.handshake);
+  dev.serial.newline = dev.serial.newline || A.newline;
+}
+
+// A new job is prepared (an SVG planned and written); a resumed one must be the file
+// its journal was written for. A resumed job goes back to the journal's port.
+PlotJob load_job(PlotArgs& A) {
+  PlotJob pj;
+  pj.resuming = !A.resume.empty();
+  if (pj.resuming) {
+    pj.prepared = {A.resume, dialect_of(A.resume), A.profile};
+    pj.resume_state = io::Journal::load(io::Journal::path_for(A.resume));
+    if (pj.resume_state.complete) throw UserError("job " + A.resume + " was already plotted to the end (journal says done)");
+    if (A.port.empty() && !A.sim) A.port = pj.resume_state.header.port;
+  } else {
+    pj.prepared = prepare_job({A.input, A.profile, A.job_out});
+  }
+  const std::string& path = pj.prepared.path;
+  const std::string text = read_file(path);
+  pj.hash = hex(io::fnv1a64(text));
+  if (pj.resuming && pj.resume_state.header.job_hash != pj.hash)
+    throw UserError("job " + path + " changed since it was started (its journal belongs to another version)");
+  pj.device = plot_profile(pj.prepared.profile.empty() ? A.profile : pj.prepared.profile, pj.prepared.dialect);
+  pj.pen_rule = gcode_pen_rule(pj.device);
+  pj.job = pj.grbl() ? io::parse_gcode_job(text, pj.pen_rule) : io::parse_hpgl_job(text);
+  if (pj.job.lines.empty()) throw UserError("job " + path + " has no lines to plot");
+  apply_overrides(A, pj.device, pj.grbl());
+  return pj;
+}
+
+// Where the bytes go: a port (the one plausible device without --port), or the
+// simulator of the device on a pty, opened as a serial port like a real one.
+struct PlotLink {
+  std::unique_ptr<sim::SimDevice> sim;
+  std::unique_ptr<io::Transport> port;
+  std::string port_name;
+};
+
+PlotLink open_link(const PlotArgs& A, const PlotJob& pj) {
+  PlotLink link;
+  const DeviceProfile& dev = pj.device;
+  if (!A.sim) {
+    link.port_name = A.port.empty() ? io::choose_port(io::list_devices()) : A.port;
+    link.port = io::open_port(link.port_name, dev.serial.port);
+    return link;
+  }
+  const sim::SimRun run{A.sim_speedup, {A.sim_baud, A.sim_latency_ms}, {}};
+  if (pj.grbl()) {
+    sim::GrblSimConfig c = sim::grbl_sim_config(dev);
+    static_cast<sim::SimRun&>(c) = run;
+    link.sim = std::make_unique<sim::GrblSim>(c);
+  } else {
+    sim::HpglSimConfig c = sim::hpgl_sim_config(dev);
+    static_cast<sim::SimRun&>(c) = run;
+    link.sim = std::make_unique<sim::HpglSim>(c);
+  }
+  link.port_name = link.sim->open_pty();
+  auto ps = std::make_unique<io::PosixSerial>(link.port_name, dev.serial.port);
+  // In-band XOFF must arrive in time: write no faster than the simulated wire.
+  if (dev.hpgl.handshake == HpglHandshake::xonxoff && A.sim_baud > 0) ps->pace(A.sim_baud / 10 * A.sim_speedup);
+  link.port = std::move(ps);
+  return link;
+}
+
+// The progress bar and JSON progress lines; Ctrl-C pauses (feed hold, pen lifted) at
+// the streamer's next step, and the next report asks whether to resume or abort.
+class PlotProgress {
+ public:
+  PlotProgress(const PlotArgs& A, size_t lines) : A_(A), bar_("plot", lines, !A.quiet && !A.json) {
+    std::signal(SIGINT, on_plot_sigint);
+  }
+  io::StreamControls controls;
+
+  void operator()(const io::StreamProgress& p) {
+    bar_.set_eta_hint(p.eta_s);
+    bar_.set_suffix(std::to_string(p.lines_acked) + "/" + std::to_string(p.lines_total) + " lines " + p.state);
+    bar_.update(p.lines_acked);
+    if (A_.json && !A_.quiet && std::chrono::steady_clock::now() - last_json_ > std::chrono::seconds(1)) {
+      last_json_ = std::chrono::steady_clock::now();
+      nlohmann::json j = {{"progress", p.lines_total ? double(p.lines_acked) / double(p.lines_total) : 1.0},
+                          {"lines_acked", p.lines_acked}, {"lines_sent", p.lines_sent}, {"lines", p.lines_total},
+                          {"elapsed_s", p.elapsed_s}, {"eta_s", p.eta_s}, {"state", p.state}};
+      std::fprintf(stderr, "%s\n", j.dump().c_str());
+    }
+    int seen = g_interrupts.load();
+    if (seen > handled_ && !asked_pause_) {
+      handled_ = seen;
+      asked_pause_ = true;
+      controls.pause = true;  // applied at the streamer's next step; ask on the next report
+      return;
+    }
+    if (asked_pause_) {
+      asked_pause_ = false;
+      (ask_resume() ? controls.resume : controls.abort) = true;
+    }
+  }
+  void finish() { bar_.finish(); }
+
+ private:
+  static bool ask_resume() {
+    if (!stdin_tty()) return false;
+    std::fprintf(stderr, "\nPaused, pen lifted. [r]esume or [a]bort? ");
+    std::string answer;
+    std::getline(std::cin, answer);
+    return !answer.empty() && (answer[0] == 'r' || answer[0] == 'R');
+  }
+  const PlotArgs& A_;
+  Progress bar_;
+  int handled_ = 0;
+  bool asked_pause_ = false;
+  std::chrono::steady_clock::time_point last_json_ = std::chrono::steady_clock::now() - std::chrono::seconds(10);
+};
+
+// A new journal for a new job; a resumed one continues its own.
+std::unique_ptr<io::Journal> open_journal(const PlotArgs& A, const PlotJob& pj, const std::string& port_name) {
+  const std::string jpath = io::Journal::path_for(pj.prepared.path);
+  if (pj.resuming) return std::make_unique<io::Journal>(jpath, io::JournalHeader{}, true);
+  io::JournalHeader h{pj.prepared.path, pj.hash, io::to_string(pj.prepared.dialect), pj.prepared.profile,
+                      A.sim ? "" : port_name, pj.job.lines.size()};
+  return std::make_unique<io::Journal>(jpath, h);
+}
+
+// An M0 in the job: the operator changes the pen (the simulator, or no terminal: go on).
+bool ask_pen_change(const PlotArgs& A, const std::string& line) {
+  if (A.sim || !stdin_tty()) return true;
+  std::fprintf(stderr, "\nPause in the job (%s): change the pen, then press Enter (or type a to abort) ", line.c_str());
+  std::string answer;
+  std::getline(std::cin, answer);
+  return answer.empty() || (answer[0] != 'a' && answer[0] != 'A');
+}
+
+// grbl: connect, compare its settings with the job, check mode if asked, resume where
+// the device's pen is, stream.
+io::StreamResult run_grbl(const PlotArgs& A, const PlotJob& pj, io::Transport& port, io::Journal& journal,
+                          PlotProgress& progress, nlohmann::json& summary) {
+  const io::Job& job = pj.job;
+  io::grbl::Options o = io::grbl::options_for(pj.device);
+  o.mode = io::grbl::parse_mode(A.stream);
+  o.skip_errors = A.skip_errors;
+  o.unlock = A.unlock;
+  o.log = [&A](const std::string& s) { A.log(s); };
+  o.on_pause_m0 = [&A](const std::string& line) { return ask_pen_change(A, line); };
+  io::grbl::Streamer st(port, o);
+  st.connect();
+  for (const auto& w : st.check_settings(st.read_settings(), io::grbl::expectations_for(job))) A.log("warning: " + w);
+  if (A.check) {
+    auto errs = st.check_job(job);
+    summary["check_errors"] = errs.size();
+    if (!errs.empty()) {
+      std::string msg = "check mode found " + std::to_string(errs.size()) + " bad line(s); first: line " +
+                        std::to_string(errs[0].first + 1) + " `" + job.lines[static_cast<size_t>(errs[0].first)].text +
+                        "`: error:" + std::to_string(errs[0].second);
+      throw UserError(msg);
+    }
+    A.log("check mode: all " + std::to_string(job.lines.size()) + " lines accepted");
+  }
+  io::ResumePlan rp{pj.start(), {}};
+  if (pj.resuming) rp = io::plan_resume(job, pj.start(), st.device_pen(pj.pen_rule));
+  return st.stream(job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
+}
+
+io::StreamResult run_hpgl(const PlotArgs& A, const PlotJob& pj, io::Transport& port, io::Journal& journal,
+                          PlotProgress& progress) {
+  io::hpgl::Options o = io::hpgl::options_for(pj.device);
+  o.log = [&A](const std::string& s) { A.log(s); };
+  io::hpgl::Streamer st(port, o);
+  st.connect();
+  io::ResumePlan rp{pj.start(), {}};
+  if (pj.resuming) rp = io::plan_resume(pj.job, pj.start());
+  return st.stream(pj.job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
+}
+
+// What the simulator drew: compared with the job, and rendered as it lies on the paper.
+void render_sim_record(const PlotArgs& A, const PlotJob& pj, sim::SimDevice& simdev, nlohmann::json& s) {
+  simdev.wait_idle(600);
+  auto rec = simdev.record();
+  sim::SimStats st = simdev.stats();
+  auto planned = io::job_segments(pj.job);
+  s["sim_segments"] = rec.size();
+  s["sim_plot_s"] = st.plot_time();
+  s["sim_starved_pct"] = 100 * st.starved_share();
+  if (!pj.resuming) s["sim_exact"] = rec.size() == planned.size() && std::is_permutation(rec.begin(), rec.end(), planned.begin());
+  std::string prefix = A.sim_out.empty() ? pj.prepared.path + ".sim" : A.sim_out;
+  const MachineGeometry& machine = pj.device.machine;
+  double upm = pj.grbl() ? 1 : machine.units_per_mm;
+  Drawing drawn;
+  if (A.page_given) {
+    PageSpec ps = parse_page(A.page);
+    Page page;
+    page.width_mm = ps.width_mm;
+    page.height_mm = ps.height_mm;
+    drawn = sim::record_to_drawing(rec, page, upm, 0.3, machine.y_up() ? ps.height_mm : 0);
+  } else {
+    drawn = sim::record_to_fitted_drawing(rec, upm, machine.y_up());  // shown as it lies on the paper
+  }
+  sim::write_drawing_png_svg(drawn, prefix + ".png", prefix + ".svg");
+  s["sim_png"] = prefix + ".png";
+  s["sim_svg"] = prefix + ".svg";
+}
+
+void print_result(const PlotArgs& A, const PlotJob& pj, const io::StreamResult& res, bool simulated,
+                  const nlohmann::json& s) {
+  if (A.json) {
+    std::printf("%s\n", s.dump().c_str());
+  } else if (!A.quiet) {
+    std::printf("%s %s: %zu lines acknowledged in %.1f s%s\n", res.completed ? "plotted" : "stopped",
+                pj.prepared.path.c_str(), res.lines_acked, res.seconds,
+                simulated ? (", simulator drew " + std::to_string(s["sim_segments"].get<size_t>()) + " segments -> " +
+                             s["sim_png"].get<std::string>())
+                                .c_str()
+                          : "");
+  }
+}
+
+void plot(PlotArgs& A) {
+  auto t0 = std::chrono::steady_clock::now();
+  A.validate();
+  PlotJob pj = load_job(A);
+  PlotLink link = open_link(A, pj);
+  A.log("plotting " + pj.prepared.path + " (" + std::to_string(pj.job.lines.size()) + " lines) on " +
+        link.port->describe());
+  PlotProgress progress(A, pj.job.lines.size());
+  std::unique_ptr<io::Journal> journal = open_journal(A, pj, link.port_name);
+  nlohmann::json s;
+  s["command"] = "plot";
+  s["job"] = pj.prepared.path;
+  s["journal"] = journal->path();
+  s["port"] = A.sim ? "sim" : link.port_name;
+  s["lines"] = pj.job.lines.size();
+  io::StreamResult res;
+  try {
+    res = pj.grbl() ? run_grbl(A, pj, *link.port, *journal, progress, s) : run_hpgl(A, pj, *link.port, *journal, progress);
+  } catch (const UserError& e) {
+    progress.finish();
+    std::string hint = journal->last_acked() >= 0
+                           ? " — the journal has line " + std::to_string(journal->last_acked() + 1) +
+                                 "; continue with: stipplot plot --resume " + pj.prepared.path + (A.sim ? " --sim" : "")
+                           : "";
+    throw UserError(std::string(e.what()) + hint);
+  }
+  progress.finish();
+  journal.reset();
+  s["completed"] = res.completed;
+  s["lines_acked"] = res.lines_acked;
+  s["errors_skipped"] = res.errors_skipped;
+  s["warnings"] = res.warnings;
+  if (link.sim) render_sim_record(A, pj, *link.sim, s);
+  s["seconds"] = seconds_since(t0);
+  print_result(A, pj, res, link.sim != nullptr, s);
+  if (!res.completed)
+    throw UserError("plot stopped at line " + std::to_string(res.last_acked + 1) + "; continue with: stipplot plot --resume " +
+                    pj.prepared.path);
+}
 
 }  // namespace
 
@@ -99,234 +388,11 @@ void register_plot(CLI::App& app) {
   cmd->add_option("--sim-out", a->sim_out, "Write what the simulator drew to PREFIX.png and PREFIX.svg")->group(g);
   auto* pg = cmd->add_option("--page", a->page, "Page for the simulator's rendering (default: fitted to what was drawn)")->group(g);
   cmd->callback([a, rx, hs, fl, pg] {
-    auto t0 = std::chrono::steady_clock::now();
-    PlotArgs& A = *a;
-    A.rx_buffer_given = rx->count() > 0;
-    A.handshake_given = hs->count() > 0;
-    A.flow_given = fl->count() > 0;
-    A.page_given = pg->count() > 0;
-    if (A.input.empty() && A.resume.empty()) throw UserError("give a job to plot, or --resume JOB");
-    if (A.sim && !A.port.empty()) throw UserError("--sim and --port exclude each other");
-    require_positive("--sim-speedup", A.sim_speedup);
-    require_nonnegative("--sim-baud", A.sim_baud);
-    require_nonnegative("--sim-latency-ms", A.sim_latency_ms);
-    // The job and its journal.
-    PreparedJob pj;
-    io::JournalState resume_state;
-    bool resuming = !A.resume.empty();
-    if (resuming) {
-      pj = {A.resume, dialect_of(A.resume), A.profile};
-      resume_state = io::Journal::load(io::Journal::path_for(A.resume));
-      if (resume_state.complete) throw UserError("job " + A.resume + " was already plotted to the end (journal says done)");
-      if (A.port.empty() && !A.sim) A.port = resume_state.header.port;
-    } else {
-      pj = prepare_job({A.input, A.profile, A.job_out});
-    }
-    std::string text = read_file(pj.path);
-    std::string hash = hex(io::fnv1a64(text));
-    if (resuming && resume_state.header.job_hash != hash)
-      throw UserError("job " + pj.path + " changed since it was started (its journal belongs to another version)");
-    PlotDevice dev = plot_device(pj.profile.empty() ? A.profile : pj.profile);
-    io::Job job = pj.dialect == io::Dialect::Hpgl ? io::parse_hpgl_job(text) : io::parse_gcode_job(text, dev.pen);
-    if (job.lines.empty()) throw UserError("job " + pj.path + " has no lines to plot");
-    bool grbl = pj.dialect == io::Dialect::GCode;
-    auto log = [&A](const std::string& s) {
-      if (!A.quiet) std::fprintf(stderr, "stipplot: %s\n", s.c_str());
-    };
-    // The device.
-    io::SerialSettings ser;
-    ser.baud = A.baud > 0 ? A.baud : dev.baud > 0 ? dev.baud : grbl ? 115200 : 9600;
-    ser.flow = io::parse_flow_control(A.flow_given ? A.flow : dev.flow);
-    if (!A.handshake_given) A.handshake = dev.handshake;
-    if (!A.rx_buffer_given && grbl && dev.rx_buffer > 0) A.rx_buffer = dev.rx_buffer;
-    A.newline = A.newline || dev.newline;
-    std::unique_ptr<sim::SimDevice> simdev;
-    std::unique_ptr<io::Transport> port;
-    std::string port_name;
-    if (A.sim) {
-      if (grbl) {
-        sim::GrblSimConfig c;
-        c.motion = dev.motion;
-        c.pen = dev.pen;
-        c.travel_x = dev.travel_x;
-        c.travel_y = dev.travel_y;
-        c.rx_buffer = A.rx_buffer;
-        c.speedup = A.sim_speedup;
-        c.link = {A.sim_baud, A.sim_latency_ms};
-        simdev = std::make_unique<sim::GrblSim>(c);
-      } else {
-        sim::HpglSimConfig c;
-        c.motion = dev.motion;
-        c.units_per_mm = dev.units_per_mm;
-        if (dev.rx_buffer >= 64) c.buffer_bytes = dev.rx_buffer;
-        c.xoff_free = c.buffer_bytes * 3 / 8;
-        c.xon_free = c.buffer_bytes * 5 / 8;
-        c.speedup = A.sim_speedup;
-        c.link = {A.sim_baud, A.sim_latency_ms};
-        c.xonxoff = A.handshake == "xonxoff";
-        // XOFF must arrive before the host overfills the buffer: leave room for the
-        // bytes in flight (latency and the host's reaction, scaled by the speedup).
-        simdev = std::make_unique<sim::HpglSim>(c);
-      }
-      port_name = simdev->open_pty();
-      auto ps = std::make_unique<io::PosixSerial>(port_name, ser);
-      if (A.handshake == "xonxoff" && A.sim_baud > 0) ps->pace(A.sim_baud / 10 * A.sim_speedup);
-      port = std::move(ps);
-    } else {
-      port_name = A.port.empty() ? io::choose_port(io::list_devices()) : A.port;
-      port = io::open_port(port_name, ser);
-    }
-    log("plotting " + pj.path + " (" + std::to_string(job.lines.size()) + " lines) on " + port->describe());
-    // Progress, and Ctrl-C: pause, then ask.
-    Progress bar("plot", job.lines.size(), !A.quiet && !A.json);
-    io::StreamControls controls;
-    int handled = 0;
-    bool asked_pause = false;
-    auto last_json = std::chrono::steady_clock::now() - std::chrono::seconds(10);
-    std::signal(SIGINT, on_plot_sigint);
-    io::ProgressFn progress = [&](const io::StreamProgress& p) {
-      bar.set_eta_hint(p.eta_s);
-      bar.set_suffix(std::to_string(p.lines_acked) + "/" + std::to_string(p.lines_total) + " lines " + p.state);
-      bar.update(p.lines_acked);
-      if (A.json && !A.quiet && std::chrono::steady_clock::now() - last_json > std::chrono::seconds(1)) {
-        last_json = std::chrono::steady_clock::now();
-        nlohmann::json j = {{"progress", p.lines_total ? double(p.lines_acked) / double(p.lines_total) : 1.0},
-                            {"lines_acked", p.lines_acked}, {"lines_sent", p.lines_sent}, {"lines", p.lines_total},
-                            {"elapsed_s", p.elapsed_s}, {"eta_s", p.eta_s}, {"state", p.state}};
-        std::fprintf(stderr, "%s\n", j.dump().c_str());
-      }
-      int seen = g_interrupts.load();
-      if (seen > handled && !asked_pause) {
-        handled = seen;
-        asked_pause = true;
-        controls.pause = true;  // applied at the streamer's next step; ask on the next report
-        return;
-      }
-      if (asked_pause) {
-        asked_pause = false;
-        bool resume = false;
-        if (stdin_tty()) {
-          std::fprintf(stderr, "\nPaused, pen lifted. [r]esume or [a]bort? ");
-          std::string answer;
-          std::getline(std::cin, answer);
-          resume = !answer.empty() && (answer[0] == 'r' || answer[0] == 'R');
-        }
-        (resume ? controls.resume : controls.abort) = true;
-      }
-    };
-    // Journal.
-    std::unique_ptr<io::Journal> journal;
-    std::string jpath = io::Journal::path_for(pj.path);
-    if (resuming) {
-      journal = std::make_unique<io::Journal>(jpath, io::JournalHeader{}, true);
-    } else {
-      io::JournalHeader h{pj.path, hash, io::to_string(pj.dialect), pj.profile, A.sim ? "" : port_name, job.lines.size()};
-      journal = std::make_unique<io::Journal>(jpath, h);
-    }
-    nlohmann::json s;
-    s["command"] = "plot";
-    s["job"] = pj.path;
-    s["journal"] = jpath;
-    s["port"] = A.sim ? "sim" : port_name;
-    s["lines"] = job.lines.size();
-    io::StreamResult res;
-    size_t start = resuming ? static_cast<size_t>(resume_state.last_acked + 1) : 0;
-    try {
-      if (grbl) {
-        io::grbl::Options o;
-        o.mode = io::grbl::parse_mode(A.stream);
-        o.rx_buffer = A.rx_buffer;
-        o.skip_errors = A.skip_errors;
-        o.unlock = A.unlock;
-        o.log = log;
-        o.on_pause_m0 = [&](const std::string& line) {
-          if (A.sim || !stdin_tty()) return true;
-          std::fprintf(stderr, "\nPause in the job (%s): change the pen, then press Enter (or type a to abort) ", line.c_str());
-          std::string answer;
-          std::getline(std::cin, answer);
-          return answer.empty() || (answer[0] != 'a' && answer[0] != 'A');
-        };
-        o.planner_blocks = dev.motion.lookahead_blocks;
-        io::grbl::Streamer st(*port, o);
-        st.connect();
-        for (const auto& w : st.check_settings(st.read_settings(), io::grbl::expectations_for(job))) log("warning: " + w);
-        if (A.check) {
-          auto errs = st.check_job(job);
-          s["check_errors"] = errs.size();
-          if (!errs.empty()) {
-            std::string msg = "check mode found " + std::to_string(errs.size()) + " bad line(s); first: line " +
-                              std::to_string(errs[0].first + 1) + " `" + job.lines[static_cast<size_t>(errs[0].first)].text +
-                              "`: error:" + std::to_string(errs[0].second);
-            throw UserError(msg);
-          }
-          log("check mode: all " + std::to_string(job.lines.size()) + " lines accepted");
-        }
-        io::ResumePlan rp{start, {}};
-        if (resuming) rp = io::plan_resume(job, start, st.device_pen(dev.pen));
-        res = st.stream(job, rp.next, rp.preamble, journal.get(), progress, &controls);
-      } else {
-        io::hpgl::Options o;
-        o.handshake = io::hpgl::parse_handshake(A.handshake);
-        o.newline = A.newline;
-        o.log = log;
-        io::hpgl::Streamer st(*port, o);
-        st.connect();
-        io::ResumePlan rp{start, {}};
-        if (resuming) rp = io::plan_resume(job, start);
-        res = st.stream(job, rp.next, rp.preamble, journal.get(), progress, &controls);
-      }
-    } catch (const UserError& e) {
-      bar.finish();
-      std::string hint = journal && journal->last_acked() >= 0
-                             ? " — the journal has line " + std::to_string(journal->last_acked() + 1) +
-                                   "; continue with: stipplot plot --resume " + pj.path + (A.sim ? " --sim" : "")
-                             : "";
-      throw UserError(std::string(e.what()) + hint);
-    }
-    bar.finish();
-    journal.reset();
-    s["completed"] = res.completed;
-    s["lines_acked"] = res.lines_acked;
-    s["errors_skipped"] = res.errors_skipped;
-    s["warnings"] = res.warnings;
-    if (simdev) {
-      simdev->wait_idle(600);
-      auto rec = simdev->record();
-      sim::SimStats st = simdev->stats();
-      auto planned = io::job_segments(job);
-      s["sim_segments"] = rec.size();
-      s["sim_plot_s"] = st.plot_time();
-      s["sim_starved_pct"] = 100 * st.starved_share();
-      if (!resuming) s["sim_exact"] = rec.size() == planned.size() && std::is_permutation(rec.begin(), rec.end(), planned.begin());
-      std::string prefix = A.sim_out.empty() ? pj.path + ".sim" : A.sim_out;
-      double upm = grbl ? 1 : dev.units_per_mm;
-      Drawing drawn;
-      if (A.page_given) {
-        PageSpec ps = parse_page(A.page);
-        Page page;
-        page.width_mm = ps.width_mm;
-        page.height_mm = ps.height_mm;
-        drawn = sim::record_to_drawing(rec, page, upm, 0.3, dev.y_up ? ps.height_mm : 0);
-      } else {
-        drawn = sim::record_to_fitted_drawing(rec, upm, dev.y_up);  // shown as it lies on the paper
-      }
-      sim::write_drawing_png_svg(drawn, prefix + ".png", prefix + ".svg");
-      s["sim_png"] = prefix + ".png";
-      s["sim_svg"] = prefix + ".svg";
-    }
-    s["seconds"] = seconds_since(t0);
-    if (A.json) {
-      std::printf("%s\n", s.dump().c_str());
-    } else if (!A.quiet) {
-      std::printf("%s %s: %zu lines acknowledged in %.1f s%s\n", res.completed ? "plotted" : "stopped", pj.path.c_str(),
-                  res.lines_acked, res.seconds,
-                  simdev ? (", simulator drew " + std::to_string(s["sim_segments"].get<size_t>()) + " segments -> " +
-                            s["sim_png"].get<std::string>())
-                               .c_str()
-                         : "");
-    }
-    if (!res.completed) throw UserError("plot stopped at line " + std::to_string(res.last_acked + 1) +
-                                        "; continue with: stipplot plot --resume " + pj.path);
+    a->rx_buffer_given = rx->count() > 0;
+    a->handshake_given = hs->count() > 0;
+    a->flow_given = fl->count() > 0;
+    a->page_given = pg->count() > 0;
+    plot(*a);
   });
 }
 

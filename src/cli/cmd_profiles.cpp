@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
-#include "drivers/profile.hpp"
+#include "drivers/device/profile.hpp"
 #include "util/error.hpp"
 
 namespace stipplot::cli {
@@ -41,9 +41,9 @@ void register_profiles(CLI::App& app) {
         j.push_back({{"name", p.name},
                      {"description", p.description},
                      {"protocol", to_string(p.protocol)},
-                     {"pen_method", to_string(p.pen_method)},
-                     {"travel_mm", {p.travel_x_mm, p.travel_y_mm}},
-                     {"pens", p.pen_count},
+                     {"pen_method", to_string(p.pen.method)},
+                     {"travel_mm", {p.machine.travel_x_mm, p.machine.travel_y_mm}},
+                     {"pens", p.pen.count},
                      {"file", p.source.string()}});
       std::printf("%s\n", j.dump().c_str());
       return;

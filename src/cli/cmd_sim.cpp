@@ -30,6 +30,64 @@ struct SimArgs {
   sim::Faults faults;
   bool once = false;
 };
+
+// The simulator the options describe (grbl's or the HPGL plotter's own defaults for the rest).
+std::unique_ptr<sim::SimDevice> make_simulator(const SimArgs& a) {
+  const sim::SimRun run{a.speedup, {a.baud, a.latency_ms}, a.faults};
+  if (a.kind == "grbl") {
+    sim::GrblSimConfig c;
+    static_cast<sim::SimRun&>(c) = run;
+    c.rx_buffer = a.rx_buffer;
+    c.soft_limits = a.soft_limits;
+    c.travel_x = a.travel_x;
+    c.travel_y = a.travel_y;
+    return std::make_unique<sim::GrblSim>(c);
+  }
+  sim::HpglSimConfig c;
+  static_cast<sim::SimRun&>(c) = run;
+  c.buffer_bytes = a.buffer;
+  c.xonxoff = a.xonxoff;
+  return std::make_unique<sim::HpglSim>(c);
+}
+
+// Serves until Ctrl-C or SIGTERM (with --once, until the first client's job is drawn),
+// then writes what was drawn.
+void run_sim(const SimArgs& a) {
+  require_positive("--speedup", a.speedup);
+  require_nonnegative("--baud", a.baud);
+  require_nonnegative("--latency-ms", a.latency_ms);
+  PageSpec ps = parse_page(a.page);
+  Page page;
+  page.width_mm = ps.width_mm;
+  page.height_mm = ps.height_mm;
+  std::unique_ptr<sim::SimDevice> dev = make_simulator(a);
+  // HPGL draws in plotter units, y up from the lower left.
+  const bool hpgl = a.kind != "grbl";
+  const double upm = hpgl ? sim::HpglSimConfig{}.units_per_mm : 1, flip = hpgl ? ps.height_mm : 0;
+  std::signal(SIGINT, on_sim_signal);
+  std::signal(SIGTERM, on_sim_signal);
+  std::printf("%s\n", dev->open_pty().c_str());
+  std::fflush(stdout);
+  while (!g_sim_stop) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (!dev->connected()) {  // an injected disconnect: the device comes back on a new pty
+      std::printf("%s\n", dev->open_pty().c_str());
+      std::fflush(stdout);
+    }
+    if (a.once && !dev->record().empty() && dev->wait_idle(0)) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+      if (dev->wait_idle(0)) break;
+    }
+  }
+  dev->stop();
+  auto rec = dev->record();
+  if (!a.record_png.empty()) sim::write_record_png(rec, page, upm, a.record_png, flip);
+  if (!a.record_svg.empty()) sim::write_record_svg(rec, page, upm, a.record_svg, flip);
+  sim::SimStats s = dev->stats();
+  std::fprintf(stderr, "simulator: %zu lines, %zu segments drawn, plot time %.1f s (device), starved %.2f%%\n", s.lines,
+               rec.size(), s.plot_time(), 100 * s.starved_share());
+}
+
 }  // namespace
 
 void register_sim(CLI::App& app) {
@@ -61,60 +119,7 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--error-line", a->faults.error_line, "Reject line K (grbl error:20, HPGL error 1)")->group(g);
   cmd->add_option("--alarm-line", a->faults.alarm_line, "Alarm at line K (grbl ALARM:1, HPGL not ready)")->group(g);
   cmd->add_flag("--once", a->once, "Exit when the first client has finished and the machine is idle (for scripts)")->group(g);
-  cmd->callback([a] {
-    require_positive("--speedup", a->speedup);
-    require_nonnegative("--baud", a->baud);
-    require_nonnegative("--latency-ms", a->latency_ms);
-    PageSpec ps = parse_page(a->page);
-    Page page;
-    page.width_mm = ps.width_mm;
-    page.height_mm = ps.height_mm;
-    std::unique_ptr<sim::SimDevice> dev;
-    double upm = 1, flip = 0;
-    if (a->kind == "grbl") {
-      sim::GrblSimConfig c;
-      c.speedup = a->speedup;
-      c.link = {a->baud, a->latency_ms};
-      c.rx_buffer = a->rx_buffer;
-      c.soft_limits = a->soft_limits;
-      c.travel_x = a->travel_x;
-      c.travel_y = a->travel_y;
-      c.faults = a->faults;
-      dev = std::make_unique<sim::GrblSim>(c);
-    } else {
-      sim::HpglSimConfig c;
-      c.speedup = a->speedup;
-      c.link = {a->baud, a->latency_ms};
-      c.buffer_bytes = a->buffer;
-      c.xonxoff = a->xonxoff;
-      c.faults = a->faults;
-      dev = std::make_unique<sim::HpglSim>(c);
-      upm = c.units_per_mm;
-      flip = ps.height_mm;
-    }
-    std::signal(SIGINT, on_sim_signal);
-    std::signal(SIGTERM, on_sim_signal);
-    std::printf("%s\n", dev->open_pty().c_str());
-    std::fflush(stdout);
-    while (!g_sim_stop) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      if (!dev->connected()) {  // an injected disconnect: the device comes back on a new pty
-        std::printf("%s\n", dev->open_pty().c_str());
-        std::fflush(stdout);
-      }
-      if (a->once && !dev->record().empty() && dev->wait_idle(0)) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(500));
-        if (dev->wait_idle(0)) break;
-      }
-    }
-    dev->stop();
-    auto rec = dev->record();
-    if (!a->record_png.empty()) sim::write_record_png(rec, page, upm, a->record_png, flip);
-    if (!a->record_svg.empty()) sim::write_record_svg(rec, page, upm, a->record_svg, flip);
-    sim::SimStats s = dev->stats();
-    std::fprintf(stderr, "simulator: %zu lines, %zu segments drawn, plot time %.1f s (device), starved %.2f%%\n", s.lines,
-                 rec.size(), s.plot_time(), 100 * s.starved_share());
-  });
+  cmd->callback([a] { run_sim(*a); });
 }
 
 }  // namespace stipplot::cli

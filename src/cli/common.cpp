@@ -3,12 +3,12 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "drivers/gcode/gcode_writer.hpp"
-#include "drivers/hpgl/hpgl_writer.hpp"
-#include "drivers/machine.hpp"
-#include "drivers/profile.hpp"
+#include "drivers/writers/gcode_writer.hpp"
+#include "drivers/writers/hpgl_writer.hpp"
+#include "drivers/device/machine.hpp"
+#include "drivers/device/profile.hpp"
 #include "plan/planner.hpp"
-#include "plan/stats.hpp"
+#include "drivers/motion/plan_stats.hpp"
 #include "svg/planned_svg.hpp"
 #include "preview/preview.hpp"
 #include "svg/svg_writer.hpp"
@@ -128,7 +128,7 @@ void write_planned_output(const Drawing& d, const std::string& path, const std::
   }
   summary["output"] = path;
   summary["profile"] = prof.name;
-  summary["plan"] = to_json(plan_stats(plan, motion_params(prof), po.origin));
+  summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin));
   summary["seconds_plan"] = plan_s;
   summary["seconds_write"] = seconds_since(t1);
 }

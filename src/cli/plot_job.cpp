@@ -2,14 +2,11 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
-#include "util/error.hpp"
-
-#include "drivers/gcode/gcode_writer.hpp"
-#include "drivers/hpgl/hpgl_writer.hpp"
-#include "drivers/profile.hpp"
-#include "plan/planner.hpp"
+#include "cli/common.hpp"
 #include "svg/svg_reader.hpp"
+#include "util/error.hpp"
 
 namespace stipplot::cli {
 
@@ -30,52 +27,57 @@ io::Dialect dialect_of(const std::string& path) {
   return (e == ".hpgl" || e == ".plt" || e == ".hpg" || e == ".hgl") ? io::Dialect::Hpgl : io::Dialect::GCode;
 }
 
-PlotDevice plot_device(const std::string& name) {
-  PlotDevice d;
-  if (name.empty()) return d;
-  DeviceProfile p = find_profile(name);
-  d.profile = p.name;
-  d.baud = p.baud;
-  d.flow = p.flow_control == FlowControl::xonxoff ? "xonxoff" : p.flow_control == FlowControl::rtscts ? "rtscts" : "none";
-  d.rx_buffer = p.rx_buffer_bytes;
-  switch (p.hpgl_handshake) {
-    case HpglHandshake::buffer_query: d.handshake = "escb"; break;
-    case HpglHandshake::xonxoff: d.handshake = "xonxoff"; break;
-    default: d.handshake = "hardware"; break;  // RTS/CTS in the serial driver, or none at all
-  }
-  d.newline = p.newline;
-  if (p.pen_method == PenMethod::servo) d.pen.servo_up_s = p.servo_up_s;
-  if (p.pen_method == PenMethod::z_axis) {
-    if (!(p.z_down_mm < p.z_up_mm))
-      throw UserError("profile " + p.name + ": the driver expects z_down_mm below z_up_mm to tell the pen state");
-    d.pen.z_down_below = (p.z_up_mm + p.z_down_mm) / 2;
-  } else {
-    d.pen.z_down_below = -1e9;  // Z plays no part in the pen state
-  }
-  d.motion = motion_params(p);
-  d.travel_x = p.travel_x_mm;
-  d.travel_y = p.travel_y_mm;
-  d.units_per_mm = p.units_per_mm;
-  const bool bottom = p.origin == Origin::bottom_left;
-  d.y_up = bottom == (p.y_sign > 0);
-  return d;
+DeviceProfile plot_profile(const std::string& name, io::Dialect dialect) {
+  if (!name.empty()) return find_profile(name);
+  const bool hpgl = dialect == io::Dialect::Hpgl;
+  DeviceProfile p;
+  p.protocol = hpgl ? Protocol::hpgl : Protocol::grbl;
+  p.machine.travel_x_mm = p.machine.travel_y_mm = 300;
+  p.machine.origin = Origin::bottom_left;
+  p.machine.units_per_mm = hpgl ? 40 : 1;
+  // Every G-code pen rule reads the spindle; a Z pen whose middle height is 0 adds
+  // "down below Z 0", so servo, laser and Z-axis jobs all read right.
+  p.pen.method = hpgl ? PenMethod::hpgl : PenMethod::z_axis;
+  p.pen.z_up_mm = 1;
+  p.pen.z_down_mm = -1;
+  p.hpgl.handshake = HpglHandshake::buffer_query;
+  p.serial.port.baud = hpgl ? 9600 : 115200;
+  p.serial.rx_buffer_bytes = hpgl ? 1024 : 128;
+  p.serial.newline = false;
+  return p;
 }
+
+namespace {
+// write_planned_output picks the writer by the file's extension: it must be the profile's.
+void check_job_name(const std::string& path, const DeviceProfile& prof) {
+  const bool hpgl = prof.protocol == Protocol::hpgl;
+  bool ok = false;
+  try {
+    ok = output_kind(path, "--job") == (hpgl ? OutputKind::hpgl : OutputKind::gcode);
+  } catch (const UserError&) {
+  }
+  if (!ok)
+    throw UserError("--job " + path + ": profile " + prof.name +
+                    (hpgl ? " is an HPGL plotter: name the job .hpgl or .plt" : " speaks G-code: name the job .gcode or .nc"));
+}
+}  // namespace
 
 PreparedJob prepare_job(const PlotJobRequest& r) {
   if (is_job_file(r.input)) return {r.input, dialect_of(r.input), r.profile};
   if (lower_ext(r.input) != ".svg")
     throw UserError("plot takes an SVG drawing or a .gcode/.hpgl job; for an image, run a method first (e.g. "
                     "stipplot stipple photo.jpg -o photo.svg) and plot the SVG");
-  DeviceProfile prof = find_profile(r.profile.empty() ? kDefaultProfile : r.profile);
+  const std::string profile = r.profile.empty() ? kDefaultProfile : r.profile;
+  DeviceProfile prof = find_profile(profile);
   Drawing d = read_svg(r.input);
   if (d.primitive_count() == 0) throw UserError(r.input + ": nothing to plot (no visible shapes)");
-  Plan plan = plan_drawing(d, PlanOptions{});
-  bool hpgl = prof.protocol == Protocol::hpgl;
+  const bool hpgl = prof.protocol == Protocol::hpgl;
   std::string path = r.job_out.empty()
                          ? std::filesystem::path(r.input).replace_extension(hpgl ? ".hpgl" : ".gcode").string()
                          : r.job_out;
-  if (hpgl) write_hpgl_file(plan, prof, path);
-  else write_gcode_file(plan, prof, path);
+  if (!r.job_out.empty()) check_job_name(path, prof);
+  nlohmann::json plan_summary;  // plot reports the streaming, not the plan
+  write_planned_output(d, path, profile, PlanArgs{}, false, plan_summary);
   return {path, hpgl ? io::Dialect::Hpgl : io::Dialect::GCode, prof.name};
 }
 

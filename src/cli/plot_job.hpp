@@ -1,11 +1,11 @@
 #pragma once
-// How `stipplot plot` gets its job: a .gcode/.hpgl file is the job itself; a drawing
-// (SVG, or an image with a method) goes through the planner and a writer for the
-// profile (see plot_job.cpp).
+// How `stipplot plot` gets its job and its device: a .gcode/.hpgl file is the job
+// itself; an SVG drawing is planned and written for the profile first (as `export`
+// does). The device is the profile, or a generic one for the job's dialect.
 #include <string>
 
-#include "drivers/journal.hpp"
-#include "plan/plan.hpp"
+#include "drivers/device/profile.hpp"
+#include "drivers/job/job.hpp"
 
 namespace stipplot::cli {
 
@@ -18,24 +18,14 @@ struct PreparedJob {
   std::string profile;
 };
 
-// What a device profile tells the driver and the simulator (defaults without one).
-struct PlotDevice {
-  std::string profile;          // name, empty = none
-  int baud = 0;                 // 0: protocol default
-  std::string flow = "none";    // none | xonxoff | rtscts
-  int rx_buffer = 0;            // grbl RX buffer / HPGL buffer; 0 = default (grbl 128; HPGL: ask)
-  std::string handshake = "escb";
-  bool newline = false;
-  io::GcodePenRule pen;
-  MotionParams motion;
-  double travel_x = 300, travel_y = 300;
-  double units_per_mm = 40;     // HPGL
-  bool y_up = true;             // machine +Y points up the page (grbl positive space, HPGL)
-};
-PlotDevice plot_device(const std::string& profile);
-
 bool is_job_file(const std::string& path);
 io::Dialect dialect_of(const std::string& path);
 PreparedJob prepare_job(const PlotJobRequest& r);
+
+// The profile `name`, or without one (empty) a generic device for the dialect: grbl at
+// 115200 baud with a 128-byte RX buffer whose pen is down while the spindle runs with
+// S > 0 or Z is below 0, or an HPGL plotter at 9600 baud with a 1024-byte buffer polled
+// by ESC.B; 300 x 300 mm of travel, y up, the time model's default motion.
+DeviceProfile plot_profile(const std::string& name, io::Dialect dialect);
 
 }  // namespace stipplot::cli

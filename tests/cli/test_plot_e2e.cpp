@@ -1,7 +1,9 @@
 // The whole pipeline through the real writers and the simulated plotters over a pty:
 // a multi-layer foreign SVG and a stipple, planned, written, streamed and drawn.
 #include <catch2/catch.hpp>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "test_util.hpp"
 
@@ -25,6 +27,28 @@ TEST_CASE("a multi-pen foreign SVG plots on the simulated grbl, pen changes incl
   CHECK(j["sim_exact"] == true);  // the simulator drew exactly the job's pen-down segments
   CHECK(j["lines_acked"] == j["lines"]);
   CHECK(std::filesystem::exists(t.file("sim.png")));
+}
+
+TEST_CASE("plot plans an SVG as export does, from machine zero", "[cli][plot]") {
+  test::TempDir t;
+  auto slurp = [](const std::string& p) {
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+  };
+  for (const char* profile : {"grbl-z", "hp7475a-a4"}) {
+    const std::string ext = std::string(profile) == "grbl-z" ? ".gcode" : ".hpgl";
+    const std::string exported = t.file(std::string("export-") + profile + ext), job = t.file(std::string("plot-") + profile + ext);
+    REQUIRE(test::run_cli("export " + example("foreign.svg") + " --profile " + profile + " -q -o " + exported).exit_code == 0);
+    auto r = test::run_cli("plot " + example("foreign.svg") + " --profile " + profile + " --sim --sim-speedup 400 -q --job " + job);
+    INFO(profile << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(slurp(job) == slurp(exported));
+  }
+  auto bad = test::run_cli("plot " + example("foreign.svg") + " --sim -q --job " + t.file("job.hpgl"));
+  CHECK(bad.exit_code == 1);
+  CHECK(bad.err.find("--job " + t.file("job.hpgl") + ": profile grbl-servo speaks G-code") != std::string::npos);
 }
 
 TEST_CASE("a stipple job plots on the simulated HPGL plotter", "[cli][plot][e2e]") {

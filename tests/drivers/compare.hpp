@@ -1,12 +1,13 @@
 #pragma once
 // Compares what a simulator drew with what a job plans: equal as multisets.
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <string>
 #include <tuple>
 #include <vector>
 
-#include "drivers/journal.hpp"
+#include "drivers/job/job.hpp"
 
 namespace testjob {
 
@@ -37,6 +38,20 @@ inline Diff compare(const std::vector<stipplot::io::Segment>& planned, const std
   for (const auto& [k, c] : count)
     if (c > 0) d.missing += static_cast<size_t>(c);
   return d;
+}
+
+// Whether `s` lies along one planned segment of the same pen (a piece of it, or a touch
+// on it): what a plotter draws when a hold or a reset cuts a move short.
+inline bool along_planned(const stipplot::io::Segment& s, const std::vector<stipplot::io::Segment>& planned,
+                          double tol = 1e-3) {
+  auto on = [tol](const stipplot::io::Segment& p, double x, double y) {
+    const double dx = p.x1 - p.x0, dy = p.y1 - p.y0, len2 = dx * dx + dy * dy;
+    const double t = len2 > 0 ? std::clamp(((x - p.x0) * dx + (y - p.y0) * dy) / len2, 0.0, 1.0) : 0.0;
+    return std::hypot(p.x0 + t * dx - x, p.y0 + t * dy - y) < tol;
+  };
+  for (const auto& p : planned)
+    if (p.pen == s.pen && on(p, s.x0, s.y0) && on(p, s.x1, s.y1)) return true;
+  return false;
 }
 
 }  // namespace testjob

@@ -5,10 +5,14 @@
 #include <thread>
 
 #include "compare.hpp"
-#include "drivers/grbl/codes.hpp"
-#include "drivers/grbl/streamer.hpp"
-#include "drivers/journal.hpp"
+#include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/segments.hpp"
+#include "drivers/stream/grbl/codes.hpp"
+#include "drivers/stream/grbl/streamer.hpp"
+#include "drivers/stream/journal.hpp"
+#include "drivers/stream/resume.hpp"
 #include "drivers/transport/posix_serial.hpp"
+#include "fast_sim.hpp"
 #include "jobgen.hpp"
 #include "sim/grbl_sim.hpp"
 
@@ -17,12 +21,7 @@ using namespace stipplot::io;
 
 namespace {
 
-sim::GrblSimConfig fast_config(sim::Faults f = {}) {
-  sim::GrblSimConfig c;
-  c.speedup = 40;
-  c.faults = f;
-  return c;
-}
+sim::GrblSimConfig fast_config(sim::Faults f = {}) { return testjob::fast_sim<sim::GrblSimConfig>(f); }
 
 struct Run {
   std::unique_ptr<sim::GrblSim> sim;
@@ -119,7 +118,7 @@ TEST_CASE("error:N stops the job naming the line and grbl's meaning, skip goes o
     try {
       st.stream(job, 0, {}, nullptr);
       FAIL("no error raised");
-    } catch (const grbl::DeviceError& e) {
+    } catch (const DeviceError& e) {
       CHECK(e.line() == 6);  // 0-based index of the 7th line
       CHECK(e.code() == 20);
       CHECK(std::string(e.what()).find("line 7") != std::string::npos);
@@ -148,7 +147,7 @@ TEST_CASE("ALARM stops, explains, and leaves the port usable", "[drivers][grbl][
   try {
     st.stream(job, 0, {}, nullptr);
     FAIL("no alarm raised");
-  } catch (const grbl::DeviceError& e) {
+  } catch (const DeviceError& e) {
     CHECK(e.alarm());
     CHECK(e.code() == 1);
     CHECK(std::string(e.what()).find("Hard limit") != std::string::npos);
@@ -172,7 +171,7 @@ TEST_CASE("soft limits raise ALARM:2, settings check refuses a job beyond them",
   try {
     st.stream(job, 0, {}, nullptr);
     FAIL("no alarm");
-  } catch (const grbl::DeviceError& e) {
+  } catch (const DeviceError& e) {
     CHECK(e.code() == 2);
     CHECK(std::string(e.what()).find("Soft limit") != std::string::npos);
   }
@@ -267,6 +266,73 @@ TEST_CASE("a port that vanishes mid-job gives a clear error and a journal, resum
                     << " prev: " << job.lines[rp.next - 1].text);
   CHECK(d.equal());
   CHECK(Journal::load(jpath).complete);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("pause, resume and abort mid-job: the journal keeps what ran, resume draws the rest exactly", "[drivers][grbl][resume]") {
+  auto dir = temp_dir();
+  const std::string jpath = (dir / "paused.gcode.journal").string();
+  // Long zigzag strokes (2 s a move in device time, 50 ms real): a hold lands mid-move and
+  // grbl's planner holds acknowledged moves when the abort comes.
+  testjob::Strokes zigzags;
+  for (int i = 0; i < 6; ++i) {
+    std::vector<testjob::Pt> z;
+    for (int k = 0; k < 6; ++k) z.push_back({10.0 + 80 * (k % 2), 10.0 + 14 * i + 2 * k});
+    zigzags.push_back(z);
+  }
+  Job job = parse_gcode_job(testjob::gcode(zigzags));
+  sim::GrblSim sim(fast_config());
+  std::string path = sim.open_pty();
+  StreamResult res;
+  {
+    PosixSerial port(path, {});
+    grbl::Streamer st(port, {});
+    st.connect();
+    JournalHeader h;
+    h.total_lines = job.lines.size();
+    Journal journal(jpath, h);
+    StreamControls controls;
+    int step = 0, held_reports = 0;
+    bool saw_hold = false;
+    // Mid-stroke: the line just acknowledged and the next are pen-down moves, so grbl's
+    // planner holds acknowledged moves that the reset will discard.
+    auto mid_stroke = [&](size_t acked) {
+      return acked >= 1 && acked < job.lines.size() && job.lines[acked - 1].text.rfind("G1 X", 0) == 0 &&
+             job.lines[acked].text.rfind("G1 X", 0) == 0;
+    };
+    res = st.stream(job, 0, {}, &journal, [&](const StreamProgress& p) {
+      if (step == 0 && p.lines_acked >= 10 && mid_stroke(p.lines_acked)) controls.pause = true, step = 1;
+      else if (step == 1) {
+        saw_hold |= p.state.rfind("Hold", 0) == 0;
+        if (++held_reports == 4) controls.resume = true, step = 2;
+      } else if (step == 2 && p.lines_acked >= 35 && mid_stroke(p.lines_acked)) {
+        controls.abort = true, step = 3;
+      }
+    }, &controls);
+    CHECK(saw_hold);
+    CHECK(step == 3);
+  }
+  CHECK_FALSE(res.completed);
+  REQUIRE(res.last_acked > 10);
+  REQUIRE(static_cast<size_t>(res.last_acked) < job.lines.size() - 1);
+  JournalState js = Journal::load(jpath);
+  CHECK(js.last_acked == res.last_acked);  // rolled back to what grbl had executed, and synced
+  PosixSerial port2(path, {});
+  grbl::Streamer st2(port2, {});
+  st2.connect();
+  ResumePlan rp = plan_resume(job, static_cast<size_t>(js.last_acked + 1), st2.device_pen());
+  Journal journal2(jpath, {}, true);
+  CHECK(st2.stream(job, rp.next, rp.preamble, &journal2).completed);
+  REQUIRE(sim.wait_idle(20));
+  // Nothing lost, nothing drawn twice; the hold and the reset may cut the move under way
+  // short, which the record shows as a piece of a planned segment.
+  const auto planned = job_segments(job), drawn = sim.record();
+  auto d = testjob::compare(planned, drawn);
+  INFO(d.str());
+  CHECK(d.missing == 0);
+  CHECK(d.duplicated == 0);
+  CHECK(d.extra <= 2);
+  for (const auto& s : drawn) CHECK(testjob::along_planned(s, planned));
   std::filesystem::remove_all(dir);
 }
 

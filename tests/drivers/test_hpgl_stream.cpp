@@ -4,9 +4,14 @@
 #include <filesystem>
 
 #include "compare.hpp"
-#include "drivers/grbl/streamer.hpp"
-#include "drivers/hpgl/streamer.hpp"
+#include "drivers/job/hpgl_reader.hpp"
+#include "drivers/job/segments.hpp"
+#include "drivers/stream/device_error.hpp"
+#include "drivers/stream/hpgl/streamer.hpp"
+#include "drivers/stream/journal.hpp"
+#include "drivers/stream/resume.hpp"
 #include "drivers/transport/posix_serial.hpp"
+#include "fast_sim.hpp"
 #include "jobgen.hpp"
 #include "sim/hpgl_sim.hpp"
 
@@ -15,12 +20,19 @@ using namespace stipplot::io;
 
 namespace {
 
-sim::HpglSimConfig fast(sim::Faults f = {}) {
-  sim::HpglSimConfig c;
-  c.speedup = 40;
-  c.faults = f;
-  return c;
-}
+sim::HpglSimConfig fast(sim::Faults f = {}) { return testjob::fast_sim<sim::HpglSimConfig>(f); }
+
+// A simulated plotter on a pty and a streamer connected to it.
+struct HpglRun {
+  sim::HpglSim sim;
+  PosixSerial port;
+  hpgl::Streamer st;
+  explicit HpglRun(const sim::HpglSimConfig& c, hpgl::Options o = {}, double pace_bytes_s = 0)
+      : sim(c), port(sim.open_pty(), {}), st(port, std::move(o)) {
+    if (pace_bytes_s > 0) port.pace(pace_bytes_s);
+    st.connect();
+  }
+};
 
 Job hpgl_job(uint64_t seed, int strokes = 25) { return parse_hpgl_job(testjob::hpgl(testjob::random_strokes(seed, strokes, 8))); }
 
@@ -40,19 +52,16 @@ TEST_CASE("HPGL parsing splits instructions and finds the drawn segments", "[dri
 }
 
 TEST_CASE("ESC.B polling never overfills the buffer and draws exactly the job", "[drivers][hpgl][e2e]") {
-  sim::HpglSim sim(fast());
-  PosixSerial port(sim.open_pty(), {});
+  HpglRun run(fast());
   Job job = hpgl_job(21);
-  hpgl::Streamer st(port, {});
-  st.connect();
-  CHECK(st.buffer_bytes() == 1024);
-  StreamResult r = st.stream(job, 0, {}, nullptr);
+  CHECK(run.st.buffer_bytes() == 1024);
+  StreamResult r = run.st.stream(job, 0, {}, nullptr);
   CHECK(r.completed);
-  REQUIRE(sim.wait_idle(20));
-  auto d = testjob::compare(job_segments(job), sim.record());
+  REQUIRE(run.sim.wait_idle(20));
+  auto d = testjob::compare(job_segments(job), run.sim.record());
   INFO(d.str());
   CHECK(d.equal());
-  CHECK(sim.stats().rx_overflow == 0);
+  CHECK(run.sim.stats().rx_overflow == 0);
   CHECK(r.last_acked == static_cast<long>(job.lines.size()) - 1);
 }
 
@@ -63,44 +72,34 @@ TEST_CASE("XON/XOFF at 115200 baud with paced writes: no overflow, exact drawing
   c.xoff_free = 384;  // room for what is in flight when XOFF leaves (the host's reaction is scaled 8x)
   c.xon_free = 640;
   c.link.baud = 115200;  // in device time, which runs 8x: the host paces to match
-  sim::HpglSim sim(c);
-  PosixSerial port(sim.open_pty(), {});
-  port.pace(115200 / 10.0 * 8);
-  Job job = hpgl_job(22, 12);
   hpgl::Options o;
-  o.handshake = hpgl::Handshake::XonXoff;
+  o.handshake = HpglHandshake::xonxoff;
   o.newline = true;
-  hpgl::Streamer st(port, o);
-  st.connect();
-  StreamResult r = st.stream(job, 0, {}, nullptr);
+  HpglRun run(c, o, 115200 / 10.0 * 8);
+  Job job = hpgl_job(22, 12);
+  StreamResult r = run.st.stream(job, 0, {}, nullptr);
   CHECK(r.completed);
-  REQUIRE(sim.wait_idle(20));
-  CHECK(sim.stats().rx_overflow == 0);
-  CHECK(testjob::compare(job_segments(job), sim.record()).equal());
+  REQUIRE(run.sim.wait_idle(20));
+  CHECK(run.sim.stats().rx_overflow == 0);
+  CHECK(testjob::compare(job_segments(job), run.sim.record()).equal());
 }
 
 TEST_CASE("without any handshake a fast host overfills the plotter (the simulator notices)", "[drivers][hpgl]") {
   sim::HpglSimConfig c = fast();
   c.speedup = 5;
-  sim::HpglSim sim(c);
-  PosixSerial port(sim.open_pty(), {});
   Job job = hpgl_job(23, 120);
   hpgl::Options o;
-  o.handshake = hpgl::Handshake::Hardware;  // but a pty has no RTS/CTS
+  o.handshake = HpglHandshake::hardware;  // but a pty has no RTS/CTS
   o.status_queries = false;
-  hpgl::Streamer st(port, o);
-  st.connect();
-  st.stream(job, 0, {}, nullptr);
+  HpglRun run(c, o);
+  run.st.stream(job, 0, {}, nullptr);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  CHECK(sim.stats().rx_overflow > 0);
+  CHECK(run.sim.stats().rx_overflow > 0);
   // With status queries the streamer notices and says the job is incomplete.
-  sim::HpglSim sim2(c);
-  PosixSerial port2(sim2.open_pty(), {});
   o.status_queries = true;
-  hpgl::Streamer st2(port2, o);
-  st2.connect();
-  CHECK_THROWS_AS(st2.stream(job, 0, {}, nullptr), grbl::DeviceError);
-  CHECK(sim2.stats().rx_overflow > 0);
+  HpglRun run2(c, o);
+  CHECK_THROWS_AS(run2.st.stream(job, 0, {}, nullptr), DeviceError);
+  CHECK(run2.sim.stats().rx_overflow > 0);
 }
 
 TEST_CASE("HPGL faults: lost and garbled replies are asked again, errors and not-ready stop", "[drivers][hpgl][faults]") {
@@ -108,27 +107,21 @@ TEST_CASE("HPGL faults: lost and garbled replies are asked again, errors and not
   for (int kind = 0; kind < 2; ++kind) {
     sim::Faults f;
     (kind == 0 ? f.drop_reply : f.corrupt_reply) = 5;
-    sim::HpglSim sim(fast(f));
-    PosixSerial port(sim.open_pty(), {});
     hpgl::Options o;
     o.reply_timeout = Millis(300);
-    hpgl::Streamer st(port, o);
-    st.connect();
-    CHECK(st.stream(job, 0, {}, nullptr).completed);
-    REQUIRE(sim.wait_idle(20));
-    CHECK(testjob::compare(job_segments(job), sim.record()).equal());
+    HpglRun run(fast(f), o);
+    CHECK(run.st.stream(job, 0, {}, nullptr).completed);
+    REQUIRE(run.sim.wait_idle(20));
+    CHECK(testjob::compare(job_segments(job), run.sim.record()).equal());
   }
   {
     sim::Faults f;
     f.error_line = 6;
-    sim::HpglSim sim(fast(f));
-    PosixSerial port(sim.open_pty(), {});
-    hpgl::Streamer st(port, {});
-    st.connect();
+    HpglRun run(fast(f));
     try {
-      st.stream(job, 0, {}, nullptr);
+      run.st.stream(job, 0, {}, nullptr);
       FAIL("no error");
-    } catch (const grbl::DeviceError& e) {
+    } catch (const DeviceError& e) {
       CHECK(e.code() == 1);
       CHECK(std::string(e.what()).find("instruction not recognized") != std::string::npos);
     }
@@ -136,13 +129,10 @@ TEST_CASE("HPGL faults: lost and garbled replies are asked again, errors and not
   {
     sim::Faults f;
     f.alarm_line = 8;
-    sim::HpglSim sim(fast(f));
-    PosixSerial port(sim.open_pty(), {});
     hpgl::Options o;
     o.not_ready_timeout = Millis(500);
-    hpgl::Streamer st(port, o);
-    st.connect();
-    CHECK_THROWS_WITH(st.stream(job, 0, {}, nullptr), Catch::Contains("not ready"));
+    HpglRun run(fast(f), o);
+    CHECK_THROWS_WITH(run.st.stream(job, 0, {}, nullptr), Catch::Contains("not ready"));
   }
 }
 

@@ -6,7 +6,10 @@
 #include <fstream>
 #include <thread>
 
-#include "drivers/journal.hpp"
+#include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/segments.hpp"
+#include "drivers/stream/journal.hpp"
+#include "drivers/stream/resume.hpp"
 #include "drivers/transport/devices.hpp"
 #include "drivers/transport/file_sink.hpp"
 #include "drivers/transport/loopback.hpp"

@@ -8,7 +8,7 @@
 
 #include "plan/emst.hpp"
 #include "plan/planner.hpp"
-#include "plan/stats.hpp"
+#include "drivers/motion/plan_stats.hpp"
 #include "plan/strokes.hpp"
 #include "plan/tour.hpp"
 #include "util/error.hpp"

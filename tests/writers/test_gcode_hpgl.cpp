@@ -12,10 +12,10 @@
 #include <map>
 #include <sstream>
 
-#include "drivers/gcode/gcode_writer.hpp"
-#include "drivers/hpgl/hpgl_writer.hpp"
-#include "drivers/machine.hpp"
-#include "drivers/profile.hpp"
+#include "drivers/writers/gcode_writer.hpp"
+#include "drivers/writers/hpgl_writer.hpp"
+#include "drivers/device/machine.hpp"
+#include "drivers/device/profile.hpp"
 #include "util/error.hpp"
 #include "writers/plan_fixtures.hpp"
 
@@ -69,98 +69,126 @@ struct GcodeRun {
   bool ended_pen_up = false;
 };
 
-// A minimal grbl: knows the pen commands of the profile, G0/G1/G4/M0/M2/M3/M4/M5, F, Z.
-GcodeRun interpret_gcode(const std::vector<std::string>& lines, const DeviceProfile& prof) {
-  GcodeRun run;
-  bool mm = false, absolute = false, feed_set = false, down = false, moved_since_down = false;
-  Steps pos{0, 0};
-  const double step = prof.resolution_mm;
-  MachineTransform limits(prof, Page{});
-  for (const auto& raw : lines) {
+// A minimal grbl: knows the pen commands of the profile, G0/G1/G4/M0/M2/M3/M4/M5, F, Z,
+// and checks as it goes that the writer keeps the rules (millimetres and absolute before
+// any move, no drawing with the pen up, no rapid with it down, moves inside the travel).
+class GcodeChecker {
+ public:
+  explicit GcodeChecker(const DeviceProfile& prof) : prof_(prof), limits_(prof, Page{}) {}
+
+  void line(const std::string& raw) {
     INFO("line: " << raw);
+    read_words(raw);
+    if (w_.count('F')) feed_set_ = true;
+    for (const auto& c : codes_) {
+      if (c == "G21") mm_ = true;
+      if (c == "G90") absolute_ = true;
+    }
+    if (has("G0") || has("G1")) {
+      REQUIRE(mm_);
+      REQUIRE(absolute_);
+    }
+    pen();
+    if (has("M0")) {
+      REQUIRE_FALSE(down_);
+      ++run_.pauses;
+    }
+    if (w_.count('X') || w_.count('Y')) move();
+  }
+
+  GcodeRun finish() {
+    run_.ended_pen_up = !down_;
+    std::sort(run_.drawn.begin(), run_.drawn.end());
+    return run_;
+  }
+
+ private:
+  void read_words(const std::string& raw) {
     std::string line = raw.substr(0, raw.find(';'));
     if (auto paren = line.find('('); paren != std::string::npos) line = line.substr(0, paren);
     std::istringstream in(line);
-    std::map<char, double> w;
-    std::vector<std::string> codes;
+    w_.clear();
+    codes_.clear();
     std::string word;
     while (in >> word) {
       char letter = word[0];
       REQUIRE(std::isupper(static_cast<unsigned char>(letter)));
-      if (letter == 'G' || letter == 'M') codes.push_back(word);
-      else w[letter] = std::stod(word.substr(1));
-    }
-    if (w.count('F')) feed_set = true;
-    for (const auto& c : codes) {
-      if (c == "G21") mm = true;
-      if (c == "G90") absolute = true;
-    }
-    auto has = [&](const char* c) { return std::find(codes.begin(), codes.end(), c) != codes.end(); };
-    const bool xy = w.count('X') || w.count('Y');
-    if (has("G0") || has("G1")) {
-      REQUIRE(mm);
-      REQUIRE(absolute);
-    }
-    // pen state changes
-    if (prof.pen_method == PenMethod::servo) {
-      if (has("M3")) {
-        REQUIRE(w.count('S'));
-        bool now_down = w['S'] == prof.servo_down_s;
-        if (now_down && !down) moved_since_down = false;
-        down = now_down;
-      }
-      if (has("M5")) {
-        if (down && !moved_since_down) run.drawn.push_back({pos, pos});
-        down = false;
-      }
-    } else if (prof.pen_method == PenMethod::laser) {
-      if (has("M4")) {
-        REQUIRE(w['S'] == prof.laser_power_s);
-        if (!down) moved_since_down = false;
-        down = true;
-      }
-      if (has("M5")) {
-        if (down && !moved_since_down) run.drawn.push_back({pos, pos});
-        down = false;
-      }
-    } else if (prof.pen_method == PenMethod::z_axis && w.count('Z')) {
-      REQUIRE(!xy);  // Z moves alone
-      bool now_down = std::fabs(w['Z'] - prof.z_down_mm) < 1e-9;
-      if (!now_down) {
-        REQUIRE(std::fabs(w['Z'] - prof.z_up_mm) < 1e-9);
-        REQUIRE(has("G0"));
-        if (down && !moved_since_down) run.drawn.push_back({pos, pos});
-      } else {
-        REQUIRE(has("G1"));
-        REQUIRE(feed_set);
-        moved_since_down = false;
-      }
-      down = now_down;
-    }
-    if (has("M0")) {
-      REQUIRE_FALSE(down);
-      ++run.pauses;
-    }
-    if (xy) {
-      Steps q = pos;
-      if (w.count('X')) q.x = to_steps(w['X'], step);
-      if (w.count('Y')) q.y = to_steps(w['Y'], step);
-      REQUIRE(limits.inside(q));
-      if (has("G1")) {
-        REQUIRE(down);  // no drawing move with the pen up
-        REQUIRE(feed_set);
-        run.drawn.push_back({pos, q});
-        moved_since_down = true;
-      } else {
-        REQUIRE(has("G0"));
-        REQUIRE_FALSE(down);  // no rapid with the pen down
-      }
-      pos = q;
+      if (letter == 'G' || letter == 'M') codes_.push_back(word);
+      else w_[letter] = std::stod(word.substr(1));
     }
   }
-  run.ended_pen_up = !down;
-  std::sort(run.drawn.begin(), run.drawn.end());
-  return run;
+  bool has(const char* c) const { return std::find(codes_.begin(), codes_.end(), c) != codes_.end(); }
+
+  // A pen-up after a pen-down that did not move is a touch (a dot).
+  void lift() {
+    if (down_ && !moved_since_down_) run_.drawn.push_back({pos_, pos_});
+    down_ = false;
+  }
+
+  void pen() {
+    const PenSetup& p = prof_.pen;
+    if (p.method == PenMethod::servo) {
+      if (has("M3")) {
+        REQUIRE(w_.count('S'));
+        bool now_down = w_['S'] == p.servo_down_s;
+        if (now_down && !down_) moved_since_down_ = false;
+        down_ = now_down;
+      }
+      if (has("M5")) lift();
+    } else if (p.method == PenMethod::laser) {
+      if (has("M4")) {
+        REQUIRE(w_['S'] == p.laser_power_s);
+        if (!down_) moved_since_down_ = false;
+        down_ = true;
+      }
+      if (has("M5")) lift();
+    } else if (p.method == PenMethod::z_axis && w_.count('Z')) {
+      REQUIRE(!(w_.count('X') || w_.count('Y')));  // Z moves alone
+      bool now_down = std::fabs(w_['Z'] - p.z_down_mm) < 1e-9;
+      if (!now_down) {
+        REQUIRE(std::fabs(w_['Z'] - p.z_up_mm) < 1e-9);
+        REQUIRE(has("G0"));
+        lift();
+      } else {
+        REQUIRE(has("G1"));
+        REQUIRE(feed_set_);
+        moved_since_down_ = false;
+      }
+      down_ = now_down;
+    }
+  }
+
+  void move() {
+    const double step = prof_.machine.resolution_mm;
+    Steps q = pos_;
+    if (w_.count('X')) q.x = to_steps(w_['X'], step);
+    if (w_.count('Y')) q.y = to_steps(w_['Y'], step);
+    REQUIRE(limits_.inside(q));
+    if (has("G1")) {
+      REQUIRE(down_);  // no drawing move with the pen up
+      REQUIRE(feed_set_);
+      run_.drawn.push_back({pos_, q});
+      moved_since_down_ = true;
+    } else {
+      REQUIRE(has("G0"));
+      REQUIRE_FALSE(down_);  // no rapid with the pen down
+    }
+    pos_ = q;
+  }
+
+  const DeviceProfile& prof_;
+  MachineTransform limits_;
+  GcodeRun run_;
+  std::map<char, double> w_;
+  std::vector<std::string> codes_;
+  bool mm_ = false, absolute_ = false, feed_set_ = false, down_ = false, moved_since_down_ = false;
+  Steps pos_{0, 0};
+};
+
+GcodeRun interpret_gcode(const std::vector<std::string>& lines, const DeviceProfile& prof) {
+  GcodeChecker g(prof);
+  for (const auto& l : lines) g.line(l);
+  return g.finish();
 }
 
 struct HpglRun {
@@ -195,8 +223,8 @@ HpglRun interpret_hpgl(const std::vector<std::string>& cmds, const DeviceProfile
     }
     REQUIRE(initialised);
     if (op == "VS") {
-      REQUIRE(prof.hpgl_velocity);
-      REQUIRE(std::stod(args) <= prof.hpgl_max_velocity_cm_s);
+      REQUIRE(prof.hpgl.velocity);
+      REQUIRE(std::stod(args) <= prof.hpgl.max_velocity_cm_s);
     } else if (op == "SP") {
       REQUIRE(v.size() == 1);
       REQUIRE_FALSE(down);
@@ -205,7 +233,7 @@ HpglRun interpret_hpgl(const std::vector<std::string>& cmds, const DeviceProfile
       run.ended_sp0 = pen == 0;
     } else if (op == "PU" || op == "PD") {
       REQUIRE(v.size() % 2 == 0);
-      REQUIRE(v.size() / 2 <= static_cast<size_t>(prof.hpgl_max_points_per_command));
+      REQUIRE(v.size() / 2 <= static_cast<size_t>(prof.hpgl.max_points_per_command));
       if (op == "PD") {
         REQUIRE(pen > 0);  // a pen is in the holder
         if (v.empty()) run.drawn.push_back({pos, pos});

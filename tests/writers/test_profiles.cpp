@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "drivers/profile.hpp"
+#include "drivers/device/profile.hpp"
 #include "util/error.hpp"
 
 using namespace stipplot;
@@ -45,7 +45,7 @@ TEST_CASE("every shipped profile loads, and its name is its file name", "[profil
     names.push_back(p.name);
     CHECK(p.source.stem().string() == p.name);
     CHECK_FALSE(p.description.empty());
-    CHECK(p.travel_x_mm > 0);
+    CHECK(p.machine.travel_x_mm > 0);
     CHECK(p.motion.speed_up_mm_s >= p.motion.speed_down_mm_s);
   }
   for (const char* want : {"grbl-servo", "grbl-z", "grbl-laser", "hp7475a-a4", "hp7475a-a3", "roland-dxy1300"})
@@ -56,24 +56,24 @@ TEST_CASE("every shipped profile loads, and its name is its file name", "[profil
 TEST_CASE("shipped HPGL profiles carry the machines' plotter units and pens", "[profiles]") {
   DeviceProfile hp = find_profile("hp7475a-a4");
   CHECK(hp.protocol == Protocol::hpgl);
-  CHECK(hp.units_per_mm == 40);
-  CHECK(hp.pen_count == 6);
-  CHECK(hp.hpgl_max_velocity_cm_s == Approx(38.1));
-  CHECK(std::llround(hp.travel_x_mm * hp.units_per_mm) == 11040);
-  CHECK(std::llround(hp.travel_y_mm * hp.units_per_mm) == 7721);
+  CHECK(hp.machine.units_per_mm == 40);
+  CHECK(hp.pen.count == 6);
+  CHECK(hp.hpgl.max_velocity_cm_s == Approx(38.1));
+  CHECK(std::llround(hp.machine.travel_x_mm * hp.machine.units_per_mm) == 11040);
+  CHECK(std::llround(hp.machine.travel_y_mm * hp.machine.units_per_mm) == 7721);
   DeviceProfile dxy = find_profile("roland-dxy1300");
-  CHECK(dxy.pen_count == 8);
-  CHECK(dxy.units_per_mm == 40);
+  CHECK(dxy.pen.count == 8);
+  CHECK(dxy.machine.units_per_mm == 40);
   CHECK(dxy.pen_for_layer(7) == 8);
   CHECK_THROWS_AS(dxy.pen_for_layer(8), UserError);
   DeviceProfile servo = find_profile("grbl-servo");
   CHECK(servo.pen_for_layer(5) == 1);  // one holder: M0 pauses instead
-  CHECK(servo.rx_buffer_bytes == 128);
+  CHECK(servo.serial.rx_buffer_bytes == 128);
 }
 
 TEST_CASE("motion parameters come from the profile", "[profiles]") {
   DeviceProfile z = find_profile("grbl-z");
-  MotionParams m = motion_params(z);
+  const MotionParams& m = z.motion;
   CHECK(m.speed_down_mm_s == 40);
   CHECK(m.speed_up_mm_s == 100);
   CHECK(m.accel_mm_s2 == 500);
@@ -120,7 +120,7 @@ TEST_CASE("a wrong-typed, out-of-range or unknown key is named", "[profiles]") {
 
 TEST_CASE("the profile option takes a path, and an unknown name lists the known ones", "[profiles]") {
   fs::path p = fs::path(STIPPLOT_SOURCE_DIR) / "drivers" / "profiles" / "grbl-laser.toml";
-  CHECK(find_profile(p.string()).pen_method == PenMethod::laser);
+  CHECK(find_profile(p.string()).pen.method == PenMethod::laser);
   try {
     find_profile("no-such-plotter");
     FAIL("expected a UserError");

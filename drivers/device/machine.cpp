@@ -1,0 +1,68 @@
+#include "drivers/device/machine.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "util/error.hpp"
+
+namespace stipplot {
+
+MachineTransform::MachineTransform(const DeviceProfile& profile, const Page& page)
+    : m_(profile.machine), page_h_(page.height_mm), step_(m_.resolution_mm) {
+  // Travel in whole steps; a hair of slack so 276 mm at 0.025 mm is 11040 steps, not 11039.
+  const int64_t nx = static_cast<int64_t>(std::floor(m_.travel_x_mm / step_ + 1e-6));
+  const int64_t ny = static_cast<int64_t>(std::floor(m_.travel_y_mm / step_ + 1e-6));
+  lo_ = {m_.x_sign > 0 ? 0 : -nx, m_.y_sign > 0 ? 0 : -ny};
+  hi_ = {m_.x_sign > 0 ? nx : 0, m_.y_sign > 0 ? ny : 0};
+}
+
+Vec2 MachineTransform::to_machine_mm(Vec2 p) const {
+  const double dx = p.x;
+  const double dy = m_.origin == Origin::top_left ? p.y : page_h_ - p.y;
+  return {m_.x_sign * (dx - m_.origin_offset_x_mm), m_.y_sign * (dy - m_.origin_offset_y_mm)};
+}
+
+Vec2 MachineTransform::page_position_of_machine_zero() const {
+  return {m_.origin_offset_x_mm,
+          m_.origin == Origin::top_left ? m_.origin_offset_y_mm : page_h_ - m_.origin_offset_y_mm};
+}
+
+Steps MachineTransform::to_steps(Vec2 page_mm) const {
+  Vec2 m = to_machine_mm(page_mm);
+  return {std::llround(m.x / step_), std::llround(m.y / step_)};
+}
+
+void check_plan_fits(const Plan& plan, const DeviceProfile& profile) {
+  MachineTransform t(profile, plan.page);
+  for (size_t li = 0; li < plan.layers.size(); ++li) {
+    for (const auto& s : plan.layers[li].strokes) {
+      for (const auto& p : s.pts) {
+        if (!std::isfinite(p.x) || !std::isfinite(p.y))
+          throw UserError("plan layer " + std::to_string(li + 1) + " has a non-finite coordinate");
+        const double slack = t.step_mm() / 2;
+        if (p.x < -slack || p.y < -slack || p.x > plan.page.width_mm + slack || p.y > plan.page.height_mm + slack) {
+          std::ostringstream msg;
+          msg.precision(2);
+          msg << std::fixed << "point (" << p.x << ", " << p.y << ") mm (layer " << li + 1 << ") is off the "
+              << plan.page.width_mm << " x " << plan.page.height_mm << " mm page";
+          throw UserError(msg.str());
+        }
+        if (t.inside(t.to_steps(p))) continue;
+        Vec2 m = t.to_machine_mm(p);
+        std::ostringstream msg;
+        msg.precision(2);
+        msg << std::fixed << "point (" << p.x << ", " << p.y << ") mm on the page (layer " << li + 1
+            << ") is at machine (" << m.x << ", " << m.y << ") mm, outside the travel of profile "
+            << profile.name << " (" << t.lo().x * t.step_mm() << ".." << t.hi().x * t.step_mm() << " x "
+            << t.lo().y * t.step_mm() << ".." << t.hi().y * t.step_mm()
+            << " mm); use a larger margin, a smaller page, or another profile";
+        const bool page_portrait = plan.page.height_mm > plan.page.width_mm;
+        const bool travel_landscape = profile.machine.travel_x_mm > profile.machine.travel_y_mm;
+        if (page_portrait && travel_landscape) msg << " (the page is portrait, the device's area landscape: try --landscape)";
+        throw UserError(msg.str());
+      }
+    }
+  }
+}
+
+}  // namespace stipplot

@@ -1,0 +1,45 @@
+#pragma once
+// From page millimetres (origin top-left, y down) to a device's own coordinates, in
+// whole device steps (resolution_mm for grbl, plotter units for HPGL), and the check
+// that a plan fits the device before anything is written or sent.
+#include <cstdint>
+
+#include "drivers/device/profile.hpp"
+#include "geometry/drawing.hpp"
+#include "plan/plan.hpp"
+
+namespace stipplot {
+
+struct Steps {
+  int64_t x = 0, y = 0;
+  friend bool operator==(const Steps&, const Steps&) = default;
+};
+
+class MachineTransform {
+ public:
+  MachineTransform(const DeviceProfile& profile, const Page& page);
+  // Machine position in mm (not rounded).
+  Vec2 to_machine_mm(Vec2 page_mm) const;
+  // Rounded to the device's resolution.
+  Steps to_steps(Vec2 page_mm) const;
+  bool inside(Steps s) const {
+    return s.x >= lo_.x && s.x <= hi_.x && s.y >= lo_.y && s.y <= hi_.y;
+  }
+  // Where machine zero (the pen's start) lies on the page, in page mm.
+  Vec2 page_position_of_machine_zero() const;
+  double step_mm() const { return step_; }
+  Steps lo() const { return lo_; }
+  Steps hi() const { return hi_; }
+
+ private:
+  const MachineGeometry& m_;
+  double page_h_;
+  double step_;
+  Steps lo_, hi_;
+};
+
+// Throws UserError naming the first plan point that is off the page or (page mm and
+// machine mm) outside the profile's travel, before anything is written or sent.
+// O(total points).
+void check_plan_fits(const Plan& plan, const DeviceProfile& profile);
+}  // namespace stipplot

@@ -1,0 +1,390 @@
+#include "drivers/device/profile.hpp"
+
+#include <unistd.h>
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "util/error.hpp"
+
+namespace stipplot {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// One [section] of a profile: typed getters that remember which keys were read, so
+// finish() can refuse the ones nobody asked for (typos, keys of another pen method).
+class Section {
+ public:
+  Section(const toml::table* t, std::string name, const std::string& file)
+      : t_(t), name_(std::move(name)), file_(file) {}
+
+  bool has(const char* key) const { return t_ && t_->contains(key); }
+
+  double number(const char* key, double lo, double hi) {
+    const toml::node* n = get(key);
+    double v;
+    if (auto i = n->value_exact<int64_t>()) {
+      v = static_cast<double>(*i);
+    } else if (auto d = n->value_exact<double>()) {
+      v = *d;
+    } else {
+      fail(key, "must be a number");
+    }
+    if (!std::isfinite(v) || v < lo || v > hi) {
+      std::ostringstream m;
+      m << "must be between " << lo << " and " << hi << " (got " << v << ")";
+      fail(key, m.str());
+    }
+    return v;
+  }
+
+  int integer(const char* key, int lo, int hi) {
+    const toml::node* n = get(key);
+    auto i = n->value_exact<int64_t>();
+    if (!i) fail(key, "must be an integer");
+    if (*i < lo || *i > hi) fail(key, "must be between " + std::to_string(lo) + " and " + std::to_string(hi));
+    return static_cast<int>(*i);
+  }
+
+  bool boolean(const char* key) {
+    auto b = get(key)->value_exact<bool>();
+    if (!b) fail(key, "must be true or false");
+    return *b;
+  }
+
+  std::string string(const char* key) {
+    auto s = get(key)->value_exact<std::string>();
+    if (!s) fail(key, "must be a string");
+    return *s;
+  }
+
+  template <class E>
+  E choice(const char* key, std::initializer_list<std::pair<const char*, E>> options) {
+    std::string s = string(key);
+    std::string names;
+    for (const auto& [text, value] : options) {
+      if (s == text) return value;
+      names += names.empty() ? "" : "|";
+      names += text;
+    }
+    fail(key, "must be one of " + names + " (got '" + s + "')");
+  }
+
+  std::vector<int> int_array(const char* key, int lo, int hi) {
+    const toml::array* a = get(key)->as_array();
+    if (!a) fail(key, "must be an array of integers");
+    std::vector<int> out;
+    for (const auto& e : *a) {
+      auto i = e.value_exact<int64_t>();
+      if (!i || *i < lo || *i > hi)
+        fail(key, "must hold integers between " + std::to_string(lo) + " and " + std::to_string(hi));
+      out.push_back(static_cast<int>(*i));
+    }
+    return out;
+  }
+
+  void finish() const {
+    if (!t_) return;
+    for (const auto& [k, v] : *t_) {
+      (void)v;
+      std::string key(k.str());
+      if (!used_.count(key)) {
+        throw UserError("profile " + file_ + ": unknown key " + qualified(key) +
+                        " (not used by this protocol or pen method, or misspelt)");
+      }
+    }
+  }
+
+  [[noreturn]] void fail(const char* key, const std::string& what) const {
+    throw UserError("profile " + file_ + ": key " + qualified(key) + " " + what);
+  }
+
+ private:
+  std::string qualified(const std::string& key) const { return name_.empty() ? key : name_ + "." + key; }
+
+  const toml::node* get(const char* key) {
+    used_.insert(key);
+    const toml::node* n = t_ ? t_->get(key) : nullptr;
+    if (!n) fail(key, "is missing");
+    return n;
+  }
+
+  const toml::table* t_;
+  std::string name_;
+  const std::string& file_;
+  std::set<std::string> used_;
+};
+
+const toml::table* subtable(const toml::table& root, const char* name, const std::string& file, bool required) {
+  const toml::node* n = root.get(name);
+  if (!n) {
+    if (required) throw UserError("profile " + file + ": section [" + name + "] is missing");
+    return nullptr;
+  }
+  const toml::table* t = n->as_table();
+  if (!t) throw UserError("profile " + file + ": key " + name + " must be a section [" + name + "]");
+  return t;
+}
+
+MachineGeometry read_machine(Section s, bool hpgl) {
+  MachineGeometry m;
+  m.travel_x_mm = s.number("travel_x_mm", 1, 100000);
+  m.travel_y_mm = s.number("travel_y_mm", 1, 100000);
+  m.origin = s.choice<Origin>("origin", {{"top-left", Origin::top_left}, {"bottom-left", Origin::bottom_left}});
+  auto sign = [&](const char* key) {
+    int v = s.integer(key, -1, 1);
+    if (v == 0) s.fail(key, "must be 1 or -1");
+    return v;
+  };
+  m.x_sign = sign("x_sign");
+  m.y_sign = sign("y_sign");
+  m.origin_offset_x_mm = s.number("origin_offset_x_mm", -10000, 10000);
+  m.origin_offset_y_mm = s.number("origin_offset_y_mm", -10000, 10000);
+  if (hpgl) {
+    m.units_per_mm = s.number("units_per_mm", 1, 10000);
+    m.resolution_mm = 1.0 / m.units_per_mm;
+  } else {
+    m.units_per_mm = 1;
+    m.resolution_mm = s.number("resolution_mm", 1e-4, 1);
+  }
+  s.finish();
+  return m;
+}
+
+MotionParams read_motion(Section s) {
+  MotionParams m;
+  m.speed_down_mm_s = s.number("speed_down_mm_s", 0.1, 10000);
+  m.speed_up_mm_s = s.number("speed_up_mm_s", 0.1, 10000);
+  m.accel_mm_s2 = s.number("accel_mm_s2", 1, 1e6);
+  m.junction_deviation_mm = s.number("junction_deviation_mm", 0, 10);
+  m.pen_lift_s = s.number("pen_lift_s", 0, 10);
+  m.pen_drop_s = s.number("pen_drop_s", 0, 10);
+  m.lookahead_blocks = s.integer("lookahead_blocks", 1, 10000);
+  // Optional: older profiles without it change pens by hand (no machine time).
+  m.pen_change_s = s.has("pen_change_s") ? s.number("pen_change_s", 0, 3600) : 0;
+  s.finish();
+  return m;
+}
+
+PenSetup read_pen(Section s, bool hpgl) {
+  PenSetup p;
+  if (hpgl) {
+    p.method = s.choice<PenMethod>("method", {{"hpgl", PenMethod::hpgl}});
+  } else {
+    p.method = s.choice<PenMethod>(
+        "method", {{"servo", PenMethod::servo}, {"z", PenMethod::z_axis}, {"laser", PenMethod::laser}});
+  }
+  p.count = s.integer("count", 1, 256);
+  if (s.has("map")) {
+    p.map = s.int_array("map", hpgl ? 1 : 0, p.count);
+    if (p.map.empty()) s.fail("map", "must not be empty");
+  }
+  switch (p.method) {
+    case PenMethod::servo:
+      p.servo_down_s = s.number("servo_down_s", 0, 100000);
+      p.servo_up_s = s.number("servo_up_s", 0, 100000);
+      break;
+    case PenMethod::z_axis:
+      p.z_up_mm = s.number("z_up_mm", -1000, 1000);
+      p.z_down_mm = s.number("z_down_mm", -1000, 1000);
+      p.z_feed_mm_s = s.number("z_feed_mm_s", 0.1, 10000);
+      if (p.z_up_mm == p.z_down_mm) s.fail("z_down_mm", "must differ from z_up_mm");
+      break;
+    case PenMethod::laser:
+      p.laser_power_s = s.number("laser_power_s", 0, 100000);
+      break;
+    case PenMethod::hpgl:
+      break;
+  }
+  p.dot_dwell_s = s.number("dot_dwell_s", 0, 10);
+  s.finish();
+  return p;
+}
+
+void read_hpgl(Section s, HpglSettings& h) {
+  h.velocity = s.boolean("velocity");
+  h.max_velocity_cm_s = s.number("max_velocity_cm_s", 0.1, 1000);
+  h.max_points_per_command = s.integer("max_points_per_command", 1, 10000);
+  s.finish();
+}
+
+// [serial]; its handshake key belongs to the HPGL settings.
+SerialSetup read_serial(Section s, bool hpgl, HpglSettings& h) {
+  SerialSetup ser;
+  ser.port.baud = s.integer("baud", 50, 10'000'000);
+  ser.port.flow = s.choice<io::FlowControl>("flow_control", {{"none", io::FlowControl::None},
+                                                             {"xonxoff", io::FlowControl::XonXoff},
+                                                             {"rtscts", io::FlowControl::RtsCts}});
+  ser.rx_buffer_bytes = s.integer("rx_buffer_bytes", 16, 1 << 24);
+  if (hpgl) {
+    h.handshake = s.choice<HpglHandshake>("handshake", {{"none", HpglHandshake::none},
+                                                        {"xonxoff", HpglHandshake::xonxoff},
+                                                        {"hardware", HpglHandshake::hardware},
+                                                        {"buffer_query", HpglHandshake::buffer_query}});
+  }
+  ser.newline = s.boolean("newline");
+  s.finish();
+  return ser;
+}
+
+DeviceProfile parse_table(const toml::table& root, const std::string& file) {
+  DeviceProfile p;
+  static const std::set<std::string> kSections = {"machine", "motion", "pen", "hpgl", "serial"};
+
+  Section top(&root, "", file);
+  p.name = top.string("name");
+  if (p.name.empty() || p.name.find_first_of(" \t/") != std::string::npos)
+    top.fail("name", "must be a non-empty word without spaces or '/'");
+  p.description = top.string("description");
+  p.protocol = top.choice<Protocol>("protocol", {{"grbl", Protocol::grbl}, {"hpgl", Protocol::hpgl}});
+  const bool hpgl = p.protocol == Protocol::hpgl;
+  auto section = [&](const char* name) { return Section(subtable(root, name, file, true), name, file); };
+
+  p.machine = read_machine(section("machine"), hpgl);
+  p.motion = read_motion(section("motion"));
+  p.pen = read_pen(section("pen"), hpgl);
+  if (hpgl) {
+    read_hpgl(section("hpgl"), p.hpgl);
+  } else if (root.contains("hpgl")) {
+    throw UserError("profile " + file + ": section [hpgl] is only for protocol = \"hpgl\"");
+  }
+  p.serial = read_serial(section("serial"), hpgl, p.hpgl);
+  // Top-level: everything else must be a known section.
+  for (const auto& [k, v] : root) {
+    (void)v;
+    std::string key(k.str());
+    if (key == "name" || key == "description" || key == "protocol" || kSections.count(key)) continue;
+    throw UserError("profile " + file + ": unknown key " + key);
+  }
+  return p;
+}
+
+fs::path executable_dir() {
+  char buf[4096];
+  ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n <= 0) return {};
+  buf[n] = '\0';
+  return fs::path(buf).parent_path();
+}
+
+}  // namespace
+
+int DeviceProfile::pen_for_layer(size_t layer) const {
+  if (!pen.map.empty()) {
+    if (layer < pen.map.size()) return pen.map[layer];
+  } else if (layer < static_cast<size_t>(pen.count)) {
+    return static_cast<int>(layer) + 1;
+  }
+  if (protocol == Protocol::grbl) return 1;  // one pen holder: the operator changes pens at M0
+  throw UserError("the plan has more layers (" + std::to_string(layer + 1) + "+) than profile " + name +
+                  " has pens (" + std::to_string(pen.map.empty() ? pen.count : static_cast<int>(pen.map.size())) +
+                  "); merge layers or use a profile with more pens");
+}
+
+DeviceProfile parse_profile(const std::string& text, const std::string& origin) {
+  toml::table root;
+  try {
+    root = toml::parse(text, origin);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream m;
+    m << "profile " << origin << " line " << e.source().begin.line << ": " << e.description();
+    throw UserError(m.str());
+  }
+  DeviceProfile p = parse_table(root, origin);
+  p.source = origin;
+  return p;
+}
+
+DeviceProfile load_profile_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw UserError("profile " + path.string() + ": cannot read the file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_profile(ss.str(), path.string());
+}
+
+std::vector<fs::path> profile_dirs() {
+  std::vector<fs::path> dirs;
+  if (const char* env = std::getenv("STIPPLOT_PROFILES"); env && *env) dirs.emplace_back(env);
+  fs::path exe = executable_dir();
+  if (!exe.empty()) {
+    dirs.push_back(exe / "profiles");
+    dirs.push_back(exe.parent_path() / "share" / "stipplot" / "profiles");
+  }
+#ifdef STIPPLOT_PROFILE_DIR
+  dirs.emplace_back(STIPPLOT_PROFILE_DIR);
+#endif
+  return dirs;
+}
+
+std::vector<DeviceProfile> list_profiles() {
+  std::map<std::string, DeviceProfile> by_name;
+  for (const auto& dir : profile_dirs()) {
+    std::error_code ec;
+    if (!fs::is_directory(dir, ec)) continue;
+    std::vector<fs::path> files;
+    for (const auto& e : fs::directory_iterator(dir, ec))
+      if (e.path().extension() == ".toml") files.push_back(e.path());
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+      std::string stem = f.stem().string();
+      if (by_name.count(stem)) continue;  // an earlier directory overrides
+      by_name.emplace(stem, load_profile_file(f));
+    }
+  }
+  std::vector<DeviceProfile> out;
+  for (auto& [k, v] : by_name) out.push_back(std::move(v));
+  return out;
+}
+
+DeviceProfile find_profile(const std::string& name_or_path) {
+  if (name_or_path.empty()) throw UserError("--profile must name a profile (see `stipplot profiles`) or a .toml file");
+  bool is_path = name_or_path.find('/') != std::string::npos ||
+                 (name_or_path.size() > 5 && name_or_path.substr(name_or_path.size() - 5) == ".toml");
+  if (is_path) return load_profile_file(name_or_path);
+  std::string searched;
+  for (const auto& dir : profile_dirs()) {
+    fs::path f = dir / (name_or_path + ".toml");
+    std::error_code ec;
+    if (fs::is_regular_file(f, ec)) return load_profile_file(f);
+    searched += searched.empty() ? "" : ", ";
+    searched += dir.string();
+  }
+  std::string known;
+  try {
+    for (const auto& p : list_profiles()) known += (known.empty() ? "" : ", ") + p.name;
+  } catch (const UserError&) {
+  }
+  throw UserError("--profile " + name_or_path + ": no such profile (known: " + (known.empty() ? "none" : known) +
+                  "; searched " + searched + ")");
+}
+
+std::string to_string(Protocol p) { return p == Protocol::grbl ? "grbl" : "hpgl"; }
+
+std::string to_string(PenMethod m) {
+  switch (m) {
+    case PenMethod::servo: return "servo";
+    case PenMethod::z_axis: return "z";
+    case PenMethod::laser: return "laser";
+    case PenMethod::hpgl: return "hpgl";
+  }
+  return "?";
+}
+
+HpglHandshake parse_hpgl_handshake(const std::string& s) {
+  if (s == "hardware" || s == "rtscts") return HpglHandshake::hardware;
+  if (s == "xonxoff" || s == "software") return HpglHandshake::xonxoff;
+  if (s == "escb" || s == "poll" || s == "esc.b") return HpglHandshake::buffer_query;
+  throw UserError("HPGL handshake must be hardware, xonxoff or escb, got '" + s + "'");
+}
+
+}  // namespace stipplot

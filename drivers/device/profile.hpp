@@ -1,0 +1,107 @@
+#pragma once
+// Device profiles: what a writer, a driver or a simulator needs to know about one
+// plotter, read from a TOML file (drivers/profiles/*.toml) into typed sections, one per
+// [section] of the file. The sections go where they are used as they are: [serial] to the
+// transport, [motion] to the time model and the simulators, [hpgl] and the handshake to
+// the HPGL writer and streamer. Every key is required unless noted, and unknown keys are
+// refused, so a typo never silently falls back to a default; errors name the file and
+// the key.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "drivers/motion/motion_params.hpp"
+#include "drivers/transport/transport.hpp"
+
+namespace stipplot {
+
+enum class Protocol { grbl, hpgl };
+// Corner of the page at machine zero; coordinates grow away from it along each axis,
+// times the axis sign (grbl machines homed to "negative space" use -1).
+enum class Origin { top_left, bottom_left };
+enum class PenMethod { servo, z_axis, laser, hpgl };
+// How the host avoids overrunning an HPGL plotter's buffer: not at all, in-band
+// XON/XOFF from the plotter, RTS/CTS in the serial driver, or asking for the free space
+// (ESC.B) before sending.
+enum class HpglHandshake { none, xonxoff, hardware, buffer_query };
+
+// [machine] Travel limits in machine coordinates (mm): x in [0, travel_x], y in
+// [0, travel_y] when both signs are +1; with a sign of -1 the range is [-travel, 0].
+struct MachineGeometry {
+  double travel_x_mm = 0, travel_y_mm = 0;
+  Origin origin = Origin::top_left;
+  int x_sign = 1, y_sign = 1;
+  // Where machine zero sits, measured from the page's origin corner into the page (mm).
+  double origin_offset_x_mm = 0, origin_offset_y_mm = 0;
+  double resolution_mm = 0.01;  // coordinates are rounded to this
+  double units_per_mm = 1;      // HPGL: 40 plotter units per mm
+  // Machine +Y points up the page (grbl's positive space from a bottom-left zero, HPGL).
+  bool y_up() const { return (origin == Origin::bottom_left) == (y_sign > 0); }
+};
+
+// [pen]
+struct PenSetup {
+  PenMethod method = PenMethod::servo;
+  int count = 1;          // pens the machine holds (carousel), 1 = change by hand
+  std::vector<int> map;   // layer i -> pen number map[i]; empty = 1, 2, 3, ...
+  double servo_down_s = 0;    // servo: M3 S<down> lowers the pen
+  double servo_up_s = 0;      //        M3 S<up> lifts it; 0 means M5
+  double z_up_mm = 0, z_down_mm = 0, z_feed_mm_s = 0;  // z_axis
+  double laser_power_s = 0;   // laser: M4 S<power> while "down", M5 otherwise
+  double dot_dwell_s = 0;     // extra time the pen rests on a single-point stroke
+};
+
+// [hpgl] (protocol hpgl only), and [serial] handshake.
+struct HpglSettings {
+  bool velocity = false;        // VS allowed
+  double max_velocity_cm_s = 0; // VS upper limit of the device
+  int max_points_per_command = 0;
+  HpglHandshake handshake = HpglHandshake::none;
+};
+
+// [serial]
+struct SerialSetup {
+  io::SerialSettings port;    // baud and flow control, as the transport takes them
+  int rx_buffer_bytes = 128;  // grbl's serial RX buffer; HPGL: the plotter's buffer
+  bool newline = true;        // end every command with '\n'
+};
+
+struct DeviceProfile {
+  std::string name;         // profile name (the file's stem for shipped ones)
+  std::string description;  // one line
+  std::filesystem::path source;
+  Protocol protocol = Protocol::grbl;
+  MachineGeometry machine;
+  MotionParams motion;
+  PenSetup pen;
+  HpglSettings hpgl;
+  SerialSetup serial;
+
+  // Pen number for layer i (0-based) or throws UserError when the machine has no pen for it.
+  int pen_for_layer(size_t layer) const;
+};
+
+// Parses and validates a profile file; throws UserError naming the file and key.
+// O(file size).
+DeviceProfile load_profile_file(const std::filesystem::path& path);
+// Parses profile text (for tests); `origin` names it in errors.
+DeviceProfile parse_profile(const std::string& toml_text, const std::string& origin);
+
+// Directories searched for shipped profiles, in order: $STIPPLOT_PROFILES, a profiles/
+// folder next to the executable, ../share/stipplot/profiles, the source tree's.
+std::vector<std::filesystem::path> profile_dirs();
+// Shipped profiles by name (each *.toml in the first directory holding it), sorted by name.
+// O(total size of the profile files).
+std::vector<DeviceProfile> list_profiles();
+// NAME (a shipped profile) or PATH (anything with a '/' or ending in .toml).
+DeviceProfile find_profile(const std::string& name_or_path);
+
+inline constexpr const char* kDefaultProfile = "grbl-servo";
+
+std::string to_string(Protocol p);
+std::string to_string(PenMethod m);
+
+// The handshake as `plot --handshake` names it: escb (buffer_query), xonxoff, hardware.
+HpglHandshake parse_hpgl_handshake(const std::string& s);
+
+}  // namespace stipplot

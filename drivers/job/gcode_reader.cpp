@@ -1,0 +1,152 @@
+#include "drivers/job/gcode_reader.hpp"
+
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <sstream>
+
+namespace stipplot::io {
+
+namespace {
+
+// Strips ( ) and ; comments and whitespace, upper-cases.
+std::string clean_gcode_line(const std::string& raw) {
+  std::string out;
+  bool paren = false;
+  for (char c : raw) {
+    if (paren) {
+      if (c == ')') paren = false;
+      continue;
+    }
+    if (c == '(') {
+      paren = true;
+      continue;
+    }
+    if (c == ';') break;
+    if (c == '\r') continue;
+    out.push_back(c);
+  }
+  auto b = out.find_first_not_of(" \t");
+  if (b == std::string::npos) return {};
+  auto e = out.find_last_not_of(" \t");
+  return out.substr(b, e - b + 1);
+}
+
+int g_code_x10(double value) { return static_cast<int>(std::lround(value * 10)); }  // G0.1 steps: G4 = 40
+
+// Where the tool is and what the spindle does, as the program has set them so far.
+struct ToolState {
+  // Z is unknown until the job sets it; until then the pen counts as up (a Z plotter
+  // whose "down" height is 0 must not read as down before its first Z move).
+  double x = 0, y = 0, z = std::numeric_limits<double>::infinity();
+  double feed = 0;  // mm/min
+  bool spindle = false;
+  double s = 0;
+};
+
+}  // namespace
+
+std::vector<GcodeWord> gcode_words(const std::string& line) {
+  std::vector<GcodeWord> w;
+  size_t i = 0;
+  while (i < line.size()) {
+    char c = static_cast<char>(std::toupper(static_cast<unsigned char>(line[i])));
+    if (c == ' ' || c == '\t') {
+      ++i;
+      continue;
+    }
+    if (c == '$' || c == '%') return {};  // system command or tape marker: no words
+    ++i;
+    size_t start = i;
+    while (i < line.size() && (std::isdigit(static_cast<unsigned char>(line[i])) || line[i] == '.' ||
+                               line[i] == '-' || line[i] == '+' || line[i] == ' '))
+      ++i;
+    std::string num;
+    for (size_t k = start; k < i; ++k)
+      if (line[k] != ' ') num.push_back(line[k]);
+    w.push_back({c, num.empty() ? 0.0 : std::strtod(num.c_str(), nullptr)});
+  }
+  return w;
+}
+
+bool is_dwell(const GcodeWord& w) { return w.letter == 'G' && g_code_x10(w.value) == 40; }
+
+bool GcodeModes::apply(const GcodeWord& w) {
+  if (w.letter != 'G') return false;
+  const int g = g_code_x10(w.value);
+  if (g == 0 || g == 10) motion = g / 10;
+  else if (g == 200) scale = 25.4;
+  else if (g == 210) scale = 1;
+  else if (g == 900) absolute = true;
+  else if (g == 910) absolute = false;
+  else return false;
+  return true;
+}
+
+bool gcode_pen_down(bool spindle_on, double s, double z, const GcodePenRule& rule) {
+  bool servo_down = spindle_on && s > 0 && !(rule.servo_up_s > 0 && std::abs(s - rule.servo_up_s) < 1e-9);
+  return servo_down || z < rule.z_down_below;
+}
+
+Job parse_gcode_job(const std::string& text, const GcodePenRule& rule) {
+  Job job;
+  job.dialect = Dialect::GCode;
+  GcodeModes modes;
+  ToolState st;
+  std::istringstream in(text);
+  std::string raw;
+  constexpr double rapid_mm_s = 100;
+  while (std::getline(in, raw)) {
+    std::string line = clean_gcode_line(raw);
+    if (line.empty()) continue;
+    JobLine jl;
+    jl.text = line;
+    double nx = st.x, ny = st.y, nz = st.z;
+    bool axis = false;
+    double dwell = 0;
+    bool is_dwell_line = false;
+    for (const GcodeWord& w : gcode_words(line)) {
+      switch (w.letter) {
+        case 'G':
+          if (!modes.apply(w) && is_dwell(w)) is_dwell_line = true;
+          break;
+        case 'M': {
+          int m = static_cast<int>(std::lround(w.value));
+          if (m == 3 || m == 4) st.spindle = true;
+          if (m == 5 || m == 2 || m == 30) st.spindle = false;
+          break;
+        }
+        case 'S': st.s = w.value; break;
+        case 'F': st.feed = w.value * modes.scale; break;
+        case 'P': dwell = w.value; break;
+        case 'X': nx = modes.absolute ? w.value * modes.scale : st.x + w.value * modes.scale; axis = true; break;
+        case 'Y': ny = modes.absolute ? w.value * modes.scale : st.y + w.value * modes.scale; axis = true; break;
+        case 'Z':
+          nz = modes.absolute || !std::isfinite(st.z) ? w.value * modes.scale : st.z + w.value * modes.scale;
+          axis = true;
+          break;
+        default: break;
+      }
+    }
+    if (axis && !is_dwell_line) {
+      double dz = std::isfinite(st.z) && std::isfinite(nz) ? nz - st.z : 0;
+      double d = std::hypot(nx - st.x, ny - st.y, dz);
+      double v = modes.motion == 0 || st.feed <= 0 ? rapid_mm_s : st.feed / 60.0;
+      jl.est_s = d / v;
+      jl.motion = true;
+      st.x = nx;
+      st.y = ny;
+      st.z = nz;
+    }
+    if (is_dwell_line) jl.est_s = dwell;
+    jl.x = st.x;
+    jl.y = st.y;
+    jl.pen_down = gcode_pen_down(st.spindle, st.s, st.z, rule);
+    job.est_total_s += jl.est_s;
+    job.lines.push_back(std::move(jl));
+  }
+  return job;
+}
+
+}  // namespace stipplot::io

@@ -1,0 +1,123 @@
+#include "drivers/motion/time_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "util/error.hpp"
+
+namespace stipplot::motion {
+
+double axis_limited_accel(double accel, Vec2 u) {
+  const double m = std::max(std::fabs(u.x), std::fabs(u.y));
+  return m > 0 ? accel / m : accel;
+}
+
+double junction_speed_sqr(Vec2 u_in, Vec2 u_out, const MotionParams& m) {
+  // grbl 1.1 planner.c: cos of the angle between the reversed entry and the exit.
+  const double cos_theta = -(u_in.x * u_out.x + u_in.y * u_out.y);
+  if (cos_theta > 0.999999) return 0;  // reversal: stop
+  if (cos_theta < -0.999999) return std::numeric_limits<double>::infinity();  // straight on
+  Vec2 j{u_out.x - u_in.x, u_out.y - u_in.y};
+  const double jl = std::hypot(j.x, j.y);
+  j = {j.x / jl, j.y / jl};
+  const double a = axis_limited_accel(m.accel_mm_s2, j);
+  const double sin_half = std::sqrt(0.5 * (1.0 - cos_theta));
+  return a * m.junction_deviation_mm * sin_half / (1.0 - sin_half);
+}
+
+double trapezoid_seconds(double L, double v0, double v1, double vmax, double a, double* v_peak) {
+  if (!(L > 0)) {
+    if (v_peak) *v_peak = std::max(v0, v1);
+    return 0;
+  }
+  const double d_acc = (vmax * vmax - v0 * v0) / (2 * a);
+  const double d_dec = (vmax * vmax - v1 * v1) / (2 * a);
+  if (d_acc + d_dec <= L) {
+    if (v_peak) *v_peak = vmax;
+    return (vmax - v0) / a + (vmax - v1) / a + (L - d_acc - d_dec) / vmax;
+  }
+  // Triangle: accelerate to vp, then decelerate; vp^2 = (2aL + v0^2 + v1^2) / 2.
+  const double vp = std::sqrt(std::max(0.0, (2 * a * L + v0 * v0 + v1 * v1) / 2));
+  if (v_peak) *v_peak = vp;
+  return std::max(0.0, vp - v0) / a + std::max(0.0, vp - v1) / a;
+}
+
+double polyline_seconds(const std::vector<Vec2>& pts, double vmax, const MotionParams& m,
+                        std::vector<MotionBlock>* out, BlockKind kind, uint32_t layer, double t0) {
+  struct Seg {
+    Vec2 from, to, u;
+    double L, a, max_entry_sqr;
+  };
+  std::vector<Seg> segs;
+  segs.reserve(pts.size());
+  for (size_t k = 1; k < pts.size(); ++k) {
+    const Vec2 d{pts[k].x - pts[k - 1].x, pts[k].y - pts[k - 1].y};
+    const double L = std::hypot(d.x, d.y);
+    if (!(L > 1e-9)) continue;  // grbl drops zero-length blocks
+    const Vec2 u{d.x / L, d.y / L};
+    Seg s{pts[k - 1], pts[k], u, L, axis_limited_accel(m.accel_mm_s2, u), 0};
+    if (!segs.empty()) s.max_entry_sqr = std::min(vmax * vmax, junction_speed_sqr(segs.back().u, u, m));
+    segs.push_back(s);
+  }
+  const size_t n = segs.size();
+  const size_t B = static_cast<size_t>(std::max(1, m.lookahead_blocks));
+  double t = 0, v_entry = 0;
+  for (size_t i = 0; i < n; ++i) {
+    // What the planner knows while block i runs: blocks i .. i+B-1, the last of
+    // which must end at rest. Backward pass from there to block i's exit.
+    const size_t last = std::min(i + B - 1, n - 1);
+    double v_sqr = 0;
+    for (size_t j = last; j > i; --j) v_sqr = std::min(segs[j].max_entry_sqr, v_sqr + 2 * segs[j].a * segs[j].L);
+    const Seg& s = segs[i];
+    const double exit_sqr = std::min(v_sqr, v_entry * v_entry + 2 * s.a * s.L);  // forward pass
+    const double v_exit = std::sqrt(exit_sqr);
+    double v_peak = 0;
+    const double dt = trapezoid_seconds(s.L, v_entry, v_exit, vmax, s.a, &v_peak);
+    if (out) out->push_back({kind, layer, t0 + t, dt, s.from, s.to, v_entry, v_exit, v_peak});
+    t += dt;
+    v_entry = v_exit;
+  }
+  return t;
+}
+
+MotionTimeline simulate_motion(const Plan& plan, const MotionParams& m, Vec2 origin, bool return_home,
+                               bool keep_blocks) {
+  validate(m);
+  MotionTimeline tl;
+  std::vector<MotionBlock>* out = keep_blocks ? &tl.blocks : nullptr;
+  Vec2 pos = origin;
+  double t = 0;
+  std::vector<Vec2> travel(2);
+  for (uint32_t li = 0; li < plan.layers.size(); ++li) {
+    const double layer_t0 = t;
+    t += m.pen_change_s;  // take up this layer's pen
+    for (const Stroke& s : plan.layers[li].strokes) {
+      if (s.pts.empty()) continue;
+      travel[0] = pos;
+      travel[1] = s.pts.front();
+      t += polyline_seconds(travel, m.speed_up_mm_s, m, out, BlockKind::Travel, li, t);
+      if (out) out->push_back({BlockKind::PenDown, li, t, m.pen_drop_s, s.pts.front(), s.pts.front()});
+      t += m.pen_drop_s;
+      t += polyline_seconds(s.pts, m.speed_down_mm_s, m, out, BlockKind::Draw, li, t);
+      if (out) out->push_back({BlockKind::PenUp, li, t, m.pen_lift_s, s.pts.back(), s.pts.back()});
+      t += m.pen_lift_s;
+      pos = s.pts.back();
+    }
+    tl.layer_seconds.push_back(t - layer_t0);
+  }
+  if (!plan.layers.empty()) t += m.pen_change_s;  // put the last pen away
+  if (return_home) {
+    travel[0] = pos;
+    travel[1] = origin;
+    tl.home_seconds = polyline_seconds(travel, m.speed_up_mm_s, m, out, BlockKind::Travel,
+                                       plan.layers.empty() ? 0 : static_cast<uint32_t>(plan.layers.size() - 1), t);
+    t += tl.home_seconds;
+  }
+  tl.total_seconds = t;
+  return tl;
+}
+
+double estimate_seconds(const Plan& plan, const MotionParams& m) { return simulate_motion(plan, m).total_seconds; }
+
+}  // namespace stipplot::motion

@@ -1,0 +1,337 @@
+// The job loop of the grbl streamer: what one Streamer::stream() call does.
+#include <algorithm>
+#include <chrono>
+#include <deque>
+#include <thread>
+
+#include "drivers/stream/grbl/codes.hpp"
+#include "drivers/stream/grbl/streamer.hpp"
+#include "drivers/stream/session.hpp"
+
+namespace stipplot::io::grbl {
+
+// One stream() call. The loop sends while the window has room, polls status, and hands
+// each line grbl sends to the handler of its kind; controls (pause, resume, abort) are
+// applied between lines.
+class Streamer::JobRun {
+ public:
+  JobRun(Streamer& s, const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
+         const ProgressFn& progress, StreamControls* controls)
+      : s_(s), o_(s.o_), session_(job, start, preamble, journal, progress), controls_(controls),
+        window_(o_.mode, static_cast<size_t>(o_.rx_buffer)) {}
+
+  StreamResult run() {
+    try {
+      for (;;) {
+        const auto now = clock::now();
+        if (apply_controls() == Control::Aborted) return abort();
+        send_while_it_fits();
+        if (finished(now)) break;
+        poll_if_due(now);
+        read_and_dispatch();
+      }
+    } catch (const TransportError&) {
+      session_.sync_journal();
+      throw;
+    }
+    session_.complete();
+    StreamResult res = session_.finish();
+    session_.all_lines_done();
+    report();
+    return res;
+  }
+
+ private:
+  enum class Control { Go, Aborted };
+  using clock = std::chrono::steady_clock;
+
+  void report() { session_.report(next_, s_.last_status_.state, s_.last_status_.x, s_.last_status_.y); }
+
+  // Everything sent and answered, and grbl has been seen idle since (or is checking).
+  bool finished(clock::time_point now) {
+    if (next_ < session_.items() || !window_.empty()) return false;
+    if (!finishing_) {
+      finishing_ = true;
+      next_poll_ = now;  // ask at once whether grbl is done
+    }
+    const std::string& state = s_.last_status_.state;
+    return (state == "Idle" && idle_polls_ > 0) || state == "Check";
+  }
+
+  Control apply_controls() {
+    if (!controls_) return Control::Go;
+    if (controls_->abort.exchange(false)) return Control::Aborted;
+    if (controls_->pause.exchange(false) && !paused_) {
+      s_.t_.write("!");
+      paused_ = true;
+      if (o_.lift_on_pause) {
+        std::this_thread::sleep_for(Millis(100));
+        s_.t_.write("\x9e");  // spindle stop override: lifts a servo pen while held
+      }
+      s_.note("paused (feed hold)");
+    }
+    if (controls_->resume.exchange(false) && paused_) {
+      s_.t_.write("~");
+      paused_ = false;
+      s_.note("resumed");
+    }
+    return Control::Go;
+  }
+
+  void send_while_it_fits() {
+    while (!paused_ && next_ < session_.items()) {
+      const std::string& text = session_.text(next_);
+      const size_t bytes = text.size() + 1;
+      if (!window_.fits(bytes)) break;
+      s_.t_.write(text + "\n");
+      window_.sent(next_, bytes);
+      ++next_;
+    }
+  }
+
+  void poll_if_due(clock::time_point now) {
+    if (now < next_poll_) return;
+    s_.t_.write("?");
+    next_poll_ = now + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(1.0 / o_.poll_hz));
+  }
+
+  // Waits for one line from grbl until the next poll is due, and hands it to the
+  // handler of its kind.
+  void read_and_dispatch() {
+    std::string line;
+    auto wait = std::clamp(std::chrono::duration_cast<Millis>(next_poll_ - clock::now()), Millis(1), Millis(50));
+    if (!s_.reader_.read_line(line, wait)) {
+      if (clock::now() - last_rx_ > o_.silence_timeout)
+        throw TransportError(TransportError::Kind::Timeout,
+                             "grbl on " + s_.t_.describe() + " stopped answering (nothing for " +
+                                 std::to_string(o_.silence_timeout.count() / 1000) + " s, not even status reports)");
+      return;
+    }
+    last_rx_ = clock::now();
+    const Reply r = classify_reply(line);
+    switch (r.kind) {
+      case ReplyKind::Ok: on_ok(); break;
+      case ReplyKind::Error: on_error(line, r.code); break;
+      case ReplyKind::Alarm: on_alarm(r.code); break;
+      case ReplyKind::Status: on_status(line); break;
+      case ReplyKind::Banner: on_restart(); break;
+      case ReplyKind::Message: s_.note("grbl: " + line); break;
+      case ReplyKind::Other: s_.note("unrecognised reply from grbl: '" + line + "' (ignored)"); break;
+    }
+  }
+
+  // The line answered was done; a job line (not the preamble) counts and is journalled.
+  void acknowledge(const LineWindow::Line& l) {
+    const long line = session_.job_line(l.item);
+    if (line < 0) return;
+    session_.acknowledge(line);
+    if (session_.job().lines[static_cast<size_t>(line)].motion) {
+      acked_motion_.push_back(line);
+      ++motion_acked_;
+      // Older moves than the snapshot's planner could hold are known executed.
+      while (motion_acked_ - acked_motion_.size() + static_cast<size_t>(o_.planner_blocks) < snapshot_.motion_acked)
+        acked_motion_.pop_front();
+    }
+  }
+
+  void on_ok() {
+    if (window_.empty()) {
+      s_.note("unexpected 'ok' from grbl (ignored)");
+      return;
+    }
+    acknowledge(window_.answered());
+    report();
+  }
+
+  void on_error(const std::string& line, int code) {
+    if (window_.empty()) {
+      s_.note("grbl reported " + line + " with no line outstanding: " + error_meaning(code));
+      return;
+    }
+    const LineWindow::Line l = window_.answered();
+    const long idx = session_.job_line(l.item);
+    const std::string where = idx >= 0 ? "line " + std::to_string(idx + 1) : "resume preamble";
+    const std::string msg =
+        "grbl error:" + std::to_string(code) + " at " + where + " `" + session_.text(l.item) + "`: " + error_meaning(code);
+    StreamResult& res = session_.result();
+    res.errors.push_back({idx, code});
+    if (o_.skip_errors || idx < 0) {
+      ++res.errors_skipped;
+      s_.note(msg + " (skipped)");
+      if (idx >= 0) acknowledge(l);
+      return;
+    }
+    collect_answers_in_flight();
+    session_.sync_journal();
+    throw DeviceError(msg + " (the job stopped; that line was not executed)", idx, code, false);
+  }
+
+  // Sending has stopped; the lines already in grbl's buffer still run: collect them.
+  void collect_answers_in_flight() {
+    auto end = clock::now() + Millis(10000);
+    while (!window_.empty() && clock::now() < end) {
+      std::string r;
+      if (!s_.reader_.read_line(r, Millis(100))) continue;
+      const Reply reply = classify_reply(r);
+      if (!reply.answers_a_line()) continue;
+      const LineWindow::Line l = window_.answered();
+      if (reply.kind == ReplyKind::Ok) acknowledge(l);
+    }
+  }
+
+  [[noreturn]] void on_alarm(int code) {
+    const long idx = window_.empty() ? session_.result().last_acked : session_.job_line(window_.oldest().item);
+    // Leave the port sane: reset flushes grbl's buffers and restarts its parser.
+    try {
+      s_.soft_reset();
+    } catch (const TransportError&) {
+    }
+    rollback_to_executed();
+    throw DeviceError("grbl ALARM:" + std::to_string(code) + " near line " + std::to_string(idx + 1) + ": " +
+                          alarm_meaning(code) + " The machine is locked: check it, unlock ($X) or re-home, then resume.",
+                      idx, code, true);
+  }
+
+  [[noreturn]] void on_restart() {
+    const long done = rollback_to_executed();
+    throw DeviceError("grbl restarted during the job (reset or power loss); its buffer was lost. Resume continues after line " +
+                          std::to_string(done + 1),
+                      done, 0, true);
+  }
+
+  void on_status(const std::string& line) {
+    Status st;
+    if (!parse_status(line, st)) return;
+    take_snapshot(st);
+    report();
+    if (st.state.rfind("Alarm", 0) == 0) {
+      rollback_to_executed();
+      throw DeviceError("grbl entered ALARM state during the job (see the machine); resume after unlocking", -1, 0, true);
+    }
+    if (st.state.rfind("Hold", 0) == 0 && !paused_ && !window_.empty()) release_program_pause();
+    count_lost_replies(st);
+  }
+
+  // A hold that is not ours is a program pause (M0): the pen change or whatever the job asks for.
+  void release_program_pause() {
+    const size_t item = window_.oldest().item;
+    const std::string& text = session_.text(item);
+    const bool is_m0 = text.find("M0") != std::string::npos || text.find("M00") != std::string::npos;
+    if (!is_m0 || m0_released_ == static_cast<long>(item)) return;
+    const bool go = o_.on_pause_m0 ? o_.on_pause_m0(text) : true;
+    if (!go) {
+      session_.sync_journal();
+      throw UserError("stopped at the pause on line " + std::to_string(session_.job_line(item) + 1));
+    }
+    m0_released_ = static_cast<long>(item);
+    s_.t_.write("~");
+  }
+
+  // Lost replies: grbl idle, its buffers empty, yet lines unanswered.
+  void count_lost_replies(const Status& st) {
+    const bool empty = st.state == "Idle" && (st.blocks_free < 0 || st.blocks_free == o_.planner_blocks) &&
+                       (st.bytes_free < 0 || st.bytes_free == o_.rx_buffer);
+    if (!empty) {
+      idle_polls_ = 0;
+      return;
+    }
+    if (idle_polls_++ == 0) idle_first_ = clock::now();
+    if (window_.empty() || idle_polls_ < 3 || clock::now() - idle_first_ <= o_.lost_reply_after) return;
+    StreamResult& res = session_.result();
+    res.warnings.push_back("grbl went idle without acknowledging " + std::to_string(window_.size()) +
+                           " line(s): a reply was lost; counting them as done");
+    s_.note(res.warnings.back());
+    while (!window_.empty()) acknowledge(window_.answered());
+    idle_polls_ = 0;
+  }
+
+  // A status report and what had been acknowledged when it came. grbl prints answers
+  // and reports in the order things happen, so the blocks in its planner then are the
+  // newest moves acknowledged before the report; moves acknowledged after it may or may
+  // not have run since.
+  void take_snapshot(const Status& st) {
+    s_.last_status_ = st;
+    snapshot_ = {motion_acked_, session_.result().last_acked, st.blocks_free};
+  }
+
+  // The last job line grbl has surely executed (as of the latest status report):
+  // acknowledged lines may still wait in its planner, and a reset (ours, an alarm's, a
+  // power loss) discards them. Erring early only draws a move twice; erring late would
+  // lose it.
+  long executed_estimate() const {
+    int in_planner = snapshot_.blocks_free >= 0 ? o_.planner_blocks - snapshot_.blocks_free : o_.planner_blocks;
+    const size_t first_kept = motion_acked_ - acked_motion_.size();  // acked_motion_[0]'s number
+    const size_t known = snapshot_.motion_acked - first_kept;        // kept moves acked before the report
+    in_planner = std::clamp(in_planner, 0, static_cast<int>(known));
+    if (in_planner == 0) return snapshot_.last_acked;
+    return acked_motion_[known - static_cast<size_t>(in_planner)] - 1;
+  }
+
+  // After grbl lost its buffers: the journal and the result go back to what was executed.
+  long rollback_to_executed() {
+    const long done = executed_estimate();
+    session_.rollback_to(done);
+    return done;
+  }
+
+  StreamResult abort() {
+    s_.t_.write("!");
+    std::this_thread::sleep_for(Millis(200));
+    status_after_hold(Millis(2000));
+    s_.soft_reset();
+    const long done = rollback_to_executed();
+    StreamResult res = session_.finish();
+    s_.note("job aborted; the machine was reset. Resume continues after line " + std::to_string(done + 1));
+    return res;
+  }
+
+  // A status report taken once the hold has stopped the machine, with every answer before
+  // it counted, so the snapshot is what grbl holds now.
+  void status_after_hold(Millis timeout) {
+    const auto end = clock::now() + timeout;
+    bool asked = false;
+    std::string line;
+    while (clock::now() < end) {
+      if (!s_.reader_.read_line(line, Millis(20))) {
+        if (!asked) s_.t_.write("?");  // what was on its way has arrived: ask
+        asked = true;
+        continue;
+      }
+      const Reply r = classify_reply(line);
+      if (r.answers_a_line() && !window_.empty()) {
+        const LineWindow::Line l = window_.answered();
+        if (r.kind == ReplyKind::Ok) acknowledge(l);
+      } else if (Status st; r.kind == ReplyKind::Status && parse_status(line, st)) {
+        take_snapshot(st);
+        if (asked) return;
+      }
+    }
+  }
+
+  struct Snapshot {
+    size_t motion_acked = 0;  // moves acknowledged when the report came
+    long last_acked = -1;     // the last line acknowledged then
+    int blocks_free = -1;     // what the report said (-1: it did not say)
+  };
+
+  Streamer& s_;
+  const Options& o_;
+  StreamSession session_;
+  StreamControls* controls_;
+  LineWindow window_;
+  size_t next_ = 0;                 // next item to send
+  std::deque<long> acked_motion_;   // acknowledged motion lines not yet known executed
+  size_t motion_acked_ = 0;         // moves acknowledged in all (acked_motion_ keeps the last)
+  Snapshot snapshot_{0, session_.result().last_acked, -1};
+  clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_;
+  int idle_polls_ = 0;
+  bool paused_ = false, finishing_ = false;
+  long m0_released_ = -2;           // the M0 item whose pause was released
+};
+
+StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
+                              const ProgressFn& progress, StreamControls* controls) {
+  return JobRun(*this, job, start, preamble, journal, progress, controls).run();
+}
+
+}  // namespace stipplot::io::grbl

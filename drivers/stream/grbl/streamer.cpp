@@ -1,0 +1,213 @@
+#include "drivers/stream/grbl/streamer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "drivers/stream/grbl/codes.hpp"
+
+namespace stipplot::io::grbl {
+
+using clock = std::chrono::steady_clock;
+
+Options options_for(const DeviceProfile& p) {
+  Options o;
+  o.rx_buffer = p.serial.rx_buffer_bytes;
+  o.planner_blocks = p.motion.lookahead_blocks;
+  return o;
+}
+
+Expectations expectations_for(const Job& job) {
+  Expectations e;
+  for (const auto& l : job.lines) {
+    e.travel_x = std::max(e.travel_x, l.x);
+    e.travel_y = std::max(e.travel_y, l.y);
+    const std::string& t = l.text;
+    for (size_t i = 0; i < t.size(); ++i) {
+      if ((t[i] == 'F' || t[i] == 'S') && i + 1 < t.size()) {
+        double v = std::strtod(t.c_str() + i + 1, nullptr);
+        if (t[i] == 'F') e.speed_mm_s = std::max(e.speed_mm_s, v / 60);
+        else e.max_s = std::max(e.max_s, v);
+      }
+      if (t[i] == 'M' && i + 1 < t.size() && t[i + 1] == '4') e.laser = true;
+    }
+  }
+  return e;
+}
+
+Streamer::Streamer(Transport& t, Options o) : t_(t), o_(std::move(o)), reader_(t) {
+  if (o_.rx_buffer < 16 || o_.rx_buffer > 1 << 20) throw UserError("rx buffer must be 16..1048576 bytes");
+  if (!(o_.poll_hz > 0 && o_.poll_hz <= 50)) throw UserError("status poll rate must be in (0, 50] Hz");
+}
+
+void Streamer::note(const std::string& s) {
+  if (o_.log) o_.log(s);
+}
+
+Status Streamer::query_status(Millis timeout) {
+  t_.write("?");
+  auto end = clock::now() + timeout;
+  std::string line;
+  while (clock::now() < end) {
+    auto left = std::chrono::duration_cast<Millis>(end - clock::now());
+    if (!reader_.read_line(line, std::max(left, Millis(1)))) break;
+    Status s;
+    if (parse_status(line, s)) {
+      last_status_ = s;
+      return s;
+    }
+  }
+  throw TransportError(TransportError::Kind::Timeout, "no status report from grbl on " + t_.describe() + " within " +
+                                                          std::to_string(timeout.count()) + " ms");
+}
+
+DevicePen Streamer::device_pen(const GcodePenRule& rule) {
+  Status s = query_status(Millis(3000));
+  DevicePen p;
+  p.known = true;
+  p.down = gcode_pen_down(s.spindle > 0, s.spindle, s.z, rule);
+  p.x = s.x;
+  p.y = s.y;
+  return p;
+}
+
+bool Streamer::wait_for_banner(Millis timeout, Millis slice) {
+  auto end = clock::now() + timeout;
+  std::string line;
+  while (clock::now() < end)
+    if (reader_.read_line(line, slice) && classify_reply(line).kind == ReplyKind::Banner) return true;
+  return false;
+}
+
+void Streamer::soft_reset() {
+  t_.write("\x18");
+  if (wait_for_banner(o_.banner_timeout)) return;
+  throw TransportError(TransportError::Kind::Timeout, "grbl did not restart after a soft reset (Ctrl-X) within " +
+                                                          std::to_string(o_.banner_timeout.count()) + " ms");
+}
+
+void Streamer::connect() {
+  // An Arduino resets when the port opens and prints its banner; a board that did not
+  // reset answers a status query instead; failing both, ask for a soft reset.
+  bool alive = wait_for_banner(Millis(400), Millis(50));
+  Status st;
+  if (!alive) {
+    try {
+      st = query_status(o_.probe_timeout);
+      alive = true;
+    } catch (const TransportError& e) {
+      if (e.kind() != TransportError::Kind::Timeout) throw;
+    }
+  }
+  if (!alive) {
+    try {
+      soft_reset();
+    } catch (const TransportError& e) {
+      if (e.kind() != TransportError::Kind::Timeout) throw;
+      throw TransportError(TransportError::Kind::Timeout,
+                           "no answer from grbl on " + t_.describe() + " within " +
+                               std::to_string(o_.banner_timeout.count() / 1000) +
+                               " s: is it a grbl device, powered, and set to the profile's baud rate?");
+    }
+  }
+  st = query_status(Millis(3000));
+  if (st.state.rfind("Alarm", 0) == 0) {
+    if (!o_.unlock)
+      throw UserError("grbl is in ALARM state: check the machine, then unlock it (pass --unlock to send $X)");
+    system_command("$X", Millis(3000));
+    note("grbl was in ALARM; unlocked with $X");
+  }
+  // Still finishing earlier work (after a reconnect): wait for it.
+  auto wait_end = clock::now() + std::chrono::minutes(30);
+  while ((st.state == "Run" || st.state.rfind("Hold", 0) == 0 || st.state == "Jog") && clock::now() < wait_end) {
+    if (st.state.rfind("Hold", 0) == 0) t_.write("~");
+    std::this_thread::sleep_for(Millis(100));
+    st = query_status(Millis(3000));
+  }
+  reader_.clear();
+}
+
+std::string Streamer::system_command(const std::string& cmd, Millis timeout, std::vector<std::string>* lines) {
+  t_.write(cmd + "\n");
+  auto end = clock::now() + timeout;
+  std::string line;
+  while (clock::now() < end) {
+    if (!reader_.read_line(line, Millis(50))) continue;
+    const Reply r = classify_reply(line);
+    if (r.answers_a_line()) return line;
+    if (r.kind == ReplyKind::Status) continue;  // a stray status report: not the command's
+    if (lines) lines->push_back(line);
+    end = clock::now() + timeout;  // the timeout is per line of output
+  }
+  throw TransportError(TransportError::Kind::Timeout, "no reply from grbl on " + t_.describe());
+}
+
+std::map<int, double> Streamer::read_settings() {
+  std::vector<std::string> lines;
+  const std::string answer = system_command("$$", Millis(5000), &lines);
+  if (classify_reply(answer).kind == ReplyKind::Error)
+    throw UserError("grbl refused $$ (" + answer + "): " + error_meaning(classify_reply(answer).code));
+  std::map<int, double> s;
+  for (const std::string& line : lines) {
+    int k;
+    double v;
+    if (std::sscanf(line.c_str(), "$%d=%lf", &k, &v) == 2) s[k] = v;
+  }
+  return s;
+}
+
+std::vector<std::string> Streamer::check_settings(const std::map<int, double>& s, const Expectations& e) {
+  std::vector<std::string> w;
+  auto get = [&](int k) { auto it = s.find(k); return it == s.end() ? -1.0 : it->second; };
+  char b[256];
+  for (int axis = 0; axis < 2; ++axis) {
+    double rate = get(110 + axis);
+    if (rate > 0 && e.speed_mm_s * 60 > rate * 1.0001) {
+      std::snprintf(b, sizeof b, "grbl's max rate $%d=%.0f mm/min is below the job's feed %.0f mm/min: it will move slower than planned",
+                    110 + axis, rate, e.speed_mm_s * 60);
+      w.push_back(b);
+    }
+  }
+  if (get(20) > 0) {
+    if ((get(130) >= 0 && e.travel_x > get(130) + 1e-6) || (get(131) >= 0 && e.travel_y > get(131) + 1e-6)) {
+      std::snprintf(b, sizeof b,
+                    "the job reaches %.1f x %.1f mm but grbl's soft limits ($130=%.1f, $131=%.1f) are smaller: it would stop with ALARM:2",
+                    e.travel_x, e.travel_y, get(130), get(131));
+      throw UserError(b);
+    }
+  }
+  if (get(30) > 0 && e.max_s > get(30) + 1e-9) {
+    std::snprintf(b, sizeof b, "the job uses S%.0f but grbl's max spindle speed is $30=%.0f: S values above it are clamped",
+                  e.max_s, get(30));
+    w.push_back(b);
+  }
+  if (e.laser && get(32) == 0) w.push_back("laser job but grbl's laser mode is off ($32=0): it will pause at every power change");
+  if (!e.laser && get(32) == 1) w.push_back("grbl's laser mode is on ($32=1) but this is not a laser profile");
+  if (get(10) >= 0 && !(static_cast<int>(get(10)) & 2))
+    w.push_back("grbl's status reports omit buffer data ($10 lacks 2): progress uses acknowledged lines only");
+  return w;
+}
+
+std::vector<std::pair<long, int>> Streamer::check_job(const Job& job) {
+  const Reply entered = classify_reply(system_command("$C", Millis(5000)));
+  if (entered.kind == ReplyKind::Error) throw UserError("grbl refused check mode ($C): " + error_meaning(entered.code));
+  Options keep = o_;
+  o_.skip_errors = true;
+  o_.log = {};
+  StreamResult res;
+  try {
+    res = stream(job, 0, {}, nullptr);
+  } catch (...) {
+    o_ = keep;
+    throw;
+  }
+  o_ = keep;
+  // Leaving check mode soft-resets grbl.
+  t_.write("$C\n");
+  wait_for_banner(o_.banner_timeout);
+  reader_.clear();
+  return res.errors;
+}
+
+}  // namespace stipplot::io::grbl

@@ -1,0 +1,88 @@
+#pragma once
+// Streams a G-code job to grbl 1.1: waits for the banner, checks $$ settings against
+// the device profile, then character counting (keep the bytes of unacknowledged lines
+// within the 128-byte receive buffer, so the planner never starves) or send-and-wait;
+// real-time '?' status polling, '!' hold / '~' resume, Ctrl-X reset; error:N and
+// ALARM:N stop the job with grbl's explanation; a journal records acknowledged lines.
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "drivers/device/profile.hpp"
+#include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/job.hpp"
+#include "drivers/stream/device_error.hpp"
+#include "drivers/stream/grbl/protocol.hpp"
+#include "drivers/stream/journal.hpp"
+#include "drivers/stream/resume.hpp"
+#include "drivers/stream/stream.hpp"
+#include "drivers/transport/transport.hpp"
+
+namespace stipplot::io::grbl {
+
+struct Options {
+  Mode mode = Mode::CharacterCounting;
+  int rx_buffer = 128;
+  int planner_blocks = 15;
+  double poll_hz = 5;                  // grbl's docs: at most 5-10 Hz
+  Millis banner_timeout{10000};
+  Millis silence_timeout{30000};       // no byte at all for this long: the device is gone
+  Millis probe_timeout{1500};          // connect: wait this long for a status report before a reset
+  Millis lost_reply_after{1000};       // idle with empty buffers this long: unacknowledged lines are done
+  bool skip_errors = false;            // error:N: warn and go on instead of stopping
+  bool unlock = false;                 // $X if grbl starts in ALARM
+  bool lift_on_pause = true;           // spindle-stop override in a hold (servo pens)
+  // A program pause (M0, pen change): return true to continue. Unset: continue at once.
+  std::function<bool(const std::string& line)> on_pause_m0;
+  std::function<void(const std::string&)> log;  // warnings and notes
+};
+
+// The profile's RX buffer and planner size.
+Options options_for(const DeviceProfile& p);
+
+// What the profile expects of the machine, checked against $$.
+struct Expectations {
+  double speed_mm_s = 0;    // fastest feed the job uses
+  double travel_x = 0, travel_y = 0;  // extent the job needs
+  double max_s = 0;         // largest S word in the job
+  bool laser = false;
+};
+Expectations expectations_for(const Job& job);
+
+class Streamer {
+ public:
+  Streamer(Transport& t, Options o);
+  // Banner (or a live status), leaves ALARM only with opt.unlock, waits until Idle.
+  void connect();
+  std::map<int, double> read_settings();
+  // Warnings for settings that differ from what the job needs; throws UserError when
+  // the job cannot run (soft limits smaller than the job).
+  std::vector<std::string> check_settings(const std::map<int, double>& s, const Expectations& e);
+  Status query_status(Millis timeout);
+  // The pen as grbl reports it: down if the spindle runs (servo/laser) or Z is below
+  // the rule's threshold.
+  DevicePen device_pen(const GcodePenRule& rule = {});
+  void soft_reset();
+  // Streams job lines [start, end) after `preamble`. Throws DeviceError / TransportError;
+  // the journal is synced first, so `plot --resume` can continue.
+  StreamResult stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
+                      const ProgressFn& progress = {}, StreamControls* controls = nullptr);
+  // $C check mode: every line parsed, nothing moves. Returns (line index, error code).
+  std::vector<std::pair<long, int>> check_job(const Job& job);
+
+ private:
+  class JobRun;  // one stream() call: sending, answers, controls
+  void note(const std::string& s);
+  // Reads lines until grbl's start-up banner, at most `timeout`; false if none came.
+  bool wait_for_banner(Millis timeout, Millis slice = Millis(100));
+  // Sends a '$' command and returns its answer (ok or error:N), waiting at most
+  // `timeout` for each line; the lines grbl prints before the answer go to `lines`.
+  std::string system_command(const std::string& cmd, Millis timeout, std::vector<std::string>* lines = nullptr);
+  Transport& t_;
+  Options o_;
+  LineReader reader_;
+  Status last_status_;
+};
+
+}  // namespace stipplot::io::grbl

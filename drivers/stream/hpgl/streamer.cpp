@@ -1,0 +1,278 @@
+#include "drivers/stream/hpgl/streamer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <climits>
+#include <thread>
+
+#include "drivers/stream/device_error.hpp"
+#include "drivers/stream/session.hpp"
+
+namespace stipplot::io::hpgl {
+
+using clock = std::chrono::steady_clock;
+
+Options options_for(const DeviceProfile& p) {
+  Options o;
+  o.handshake = p.hpgl.handshake;
+  o.newline = p.serial.newline;
+  return o;
+}
+
+std::string error_meaning(int code) {
+  switch (code) {
+    case 0: return "no error";
+    case 1: return "instruction not recognized";
+    case 2: return "wrong number of parameters";
+    case 3: return "out-of-range parameters";
+    case 5: return "unknown character set";
+    case 6: return "position overflow";
+    case 7: return "buffer overflow (data was lost)";
+    default: return "HP-GL error " + std::to_string(code);
+  }
+}
+
+Streamer::Streamer(Transport& t, Options o) : t_(t), o_(std::move(o)) {
+  if (o_.reserve < 0 || o_.buffer_bytes < 0) throw UserError("HPGL buffer size and reserve must be >= 0");
+  if (o_.retries < 0) throw UserError("HPGL retries must be >= 0");
+}
+
+void Streamer::pump(Millis timeout) {
+  char buf[512];
+  size_t n = t_.read(buf, sizeof buf, timeout);
+  for (size_t i = 0; i < n; ++i) {
+    if (buf[i] == 0x13) {
+      if (!xoff_) xoff_since_ = clock::now();
+      xoff_ = true;
+    } else if (buf[i] == 0x11) {
+      xoff_ = false;
+    } else {
+      incoming_.push_back(buf[i]);
+    }
+  }
+}
+
+bool Streamer::read_reply(std::string& out, Millis timeout) {
+  auto end = clock::now() + timeout;
+  for (;;) {
+    auto eol = incoming_.find_first_of("\r\n");
+    while (eol == 0) {
+      incoming_.erase(0, 1);
+      eol = incoming_.find_first_of("\r\n");
+    }
+    if (eol != std::string::npos) {
+      out = incoming_.substr(0, eol);
+      incoming_.erase(0, eol + 1);
+      return true;
+    }
+    auto left = std::chrono::duration_cast<Millis>(end - clock::now());
+    if (left.count() <= 0) return false;
+    pump(std::min(left, Millis(50)));
+  }
+}
+
+int Streamer::query(char c) {
+  for (int attempt = 0; attempt <= o_.retries; ++attempt) {
+    incoming_.clear();
+    t_.write(std::string("\x1b.") + c);
+    std::string r;
+    if (!read_reply(r, o_.reply_timeout)) {
+      note(std::string("no answer to ESC.") + c + ", asking again");
+      continue;
+    }
+    char* end = nullptr;
+    long v = std::strtol(r.c_str(), &end, 10);
+    if (end != r.c_str() && (*end == '\0' || *end == ',') && v >= 0) return static_cast<int>(v);
+    note(std::string("garbled answer to ESC.") + c + ": '" + r + "', asking again");
+    std::this_thread::sleep_for(Millis(20));
+    pump(Millis(20));
+  }
+  throw TransportError(TransportError::Kind::Timeout, std::string("the plotter on ") + t_.describe() +
+                                                          " does not answer ESC." + c + " (tried " +
+                                                          std::to_string(o_.retries + 1) + " times)");
+}
+
+void Streamer::connect() {
+  if (o_.handshake != HpglHandshake::buffer_query && !o_.status_queries) {
+    buffer_ = o_.buffer_bytes;
+    return;
+  }
+  buffer_ = o_.buffer_bytes > 0 ? o_.buffer_bytes : query('L');
+  if (buffer_ <= o_.reserve) throw UserError("the plotter reports a buffer of " + std::to_string(buffer_) + " bytes: too small");
+  // Wait for earlier work to finish (after a reconnect), so free space means empty.
+  auto end = clock::now() + std::chrono::minutes(30);
+  while (query('B') < buffer_ && clock::now() < end) std::this_thread::sleep_for(Millis(50));
+}
+
+// One stream() call. HPGL has no per-line answer: a line counts as done once the
+// plotter's buffer has taken it past (ESC.B) or, without buffer queries, once written.
+class Streamer::JobRun {
+ public:
+  JobRun(Streamer& s, const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
+         const ProgressFn& progress, StreamControls* controls)
+      : s_(s), o_(s.o_), session_(job, start, preamble, journal, progress), controls_(controls) {
+    // The whole byte stream, and where each item ends in it.
+    for (size_t i = 0; i < session_.items(); ++i) {
+      data_ += session_.text(i);
+      if (o_.newline) data_ += '\n';
+      ends_.push_back(data_.size());
+    }
+  }
+
+  StreamResult run() {
+    try {
+      const bool aborted = o_.handshake == HpglHandshake::buffer_query ? !stream_polled() : !stream_paced();
+      if (aborted) {
+        session_.sync_journal();
+        return session_.finish();
+      }
+      check_status(true);
+    } catch (const TransportError&) {
+      session_.sync_journal();
+      throw;
+    } catch (const DeviceError&) {
+      session_.sync_journal();
+      throw;
+    }
+    session_.complete();
+    return session_.finish();
+  }
+
+ private:
+  using clock = std::chrono::steady_clock;
+
+  bool abort_requested() { return controls_ && controls_->abort.exchange(false); }
+
+  // Items whose bytes all lie within the first `executed` bytes are done.
+  void acknowledge_through(size_t executed) {
+    while (acked_upto_ < ends_.size() && ends_[acked_upto_] <= executed) {
+      const long line = session_.job_line(acked_upto_);
+      if (line >= 0) session_.acknowledge(line);
+      ++acked_upto_;
+    }
+    const size_t items_sent = static_cast<size_t>(std::upper_bound(ends_.begin(), ends_.end(), sent_) - ends_.begin());
+    session_.report(items_sent);
+  }
+
+  // ESC.B: send at most the free space (less a reserve); what the buffer no longer holds
+  // has been drawn. False if aborted.
+  bool stream_polled() {
+    auto last_status = clock::now();
+    for (;;) {
+      if (abort_requested()) {
+        s_.t_.write("\x1b.K");  // abort graphics: drop the plotter's buffer
+        return false;
+      }
+      const int free = s_.query('B');
+      const size_t in_buffer = static_cast<size_t>(std::max(0, s_.buffer_ - free));
+      acknowledge_through(sent_ > in_buffer ? sent_ - in_buffer : 0);
+      if (sent_ == data_.size() && free >= s_.buffer_) return true;
+      if (clock::now() - last_status > Millis(500)) {
+        check_status(false);
+        last_status = clock::now();
+      }
+      const bool paused = controls_ && controls_->pause.load();
+      const size_t room = free > o_.reserve ? static_cast<size_t>(free - o_.reserve) : 0;
+      const size_t chunk = paused ? 0 : std::min(room, data_.size() - sent_);
+      if (chunk > 0) {
+        s_.t_.write(std::string_view(data_).substr(sent_, chunk));
+        sent_ += chunk;
+      } else {
+        std::this_thread::sleep_for(o_.poll_interval);
+      }
+    }
+  }
+
+  // XON/XOFF or hardware handshake: write in small pieces, watching for XOFF between
+  // them; then wait until the plotter has drawn it all. False if aborted.
+  bool stream_paced() {
+    while (sent_ < data_.size()) {
+      if (abort_requested()) return false;
+      s_.pump(Millis(0));
+      if (o_.handshake == HpglHandshake::xonxoff && s_.xoff_) {
+        if (clock::now() - s_.xoff_since_ > o_.not_ready_timeout)
+          throw TransportError(TransportError::Kind::Timeout,
+                               "the plotter held XOFF for " + std::to_string(o_.not_ready_timeout.count() / 1000) + " s");
+        s_.pump(Millis(20));
+        continue;
+      }
+      const size_t chunk = std::min<size_t>(64, data_.size() - sent_);
+      s_.t_.write(std::string_view(data_).substr(sent_, chunk), Millis(60000));
+      sent_ += chunk;
+      acknowledge_through(sent_);  // without per-line acknowledgement, a line counts as done once written
+    }
+    if (o_.status_queries) wait_drawn();
+    return true;
+  }
+
+  // Until the plotter has drawn everything, or reports an error (then OE in
+  // check_status names it), or stops consuming data (an incomplete instruction left
+  // after lost bytes would hold its buffer forever).
+  void wait_drawn() {
+    int last_free = -1;
+    auto since = clock::now();
+    for (;;) {
+      if (s_.query('O') & (8 | 32)) return;
+      const int free = s_.query('B');
+      if (free != last_free) {
+        last_free = free;
+        since = clock::now();
+      } else if (clock::now() - since > o_.not_ready_timeout) {
+        throw DeviceError("the plotter stopped taking data with " + std::to_string(s_.buffer_ - free) +
+                              " bytes in its buffer (bytes lost to a late XOFF?)",
+                          session_.result().last_acked, 0, false);
+      }
+      std::this_thread::sleep_for(Millis(50));
+    }
+  }
+
+  // ESC.O: waits out "not ready" (paper lever, view mode) up to not_ready_timeout; on an
+  // error bit, or at the end, asks OE and stops on an error.
+  void check_status(bool final) {
+    if (!o_.status_queries) return;
+    const long last = session_.result().last_acked;
+    int st = s_.query('O');
+    if (st & 16) {
+      auto since = clock::now();
+      while (st & 16) {
+        if (clock::now() - since > o_.not_ready_timeout)
+          throw DeviceError("the plotter is not ready (paper lever raised or view mode?) and stayed so for " +
+                                std::to_string(o_.not_ready_timeout.count() / 1000) + " s; resume when it is ready",
+                            last, 16, true);
+        std::this_thread::sleep_for(Millis(100));
+        st = s_.query('O');
+      }
+    }
+    if (!(st & 32) && !final) return;
+    // OE goes through the plotter's buffer: if that is stuck (lost bytes left an
+    // unfinished instruction), OE would never be answered.
+    if ((st & 32) && !(st & 8) && s_.query('B') < s_.buffer_ && final)
+      throw DeviceError("the plotter reports an error and its buffer holds an unfinished instruction "
+                        "(bytes lost to a late XOFF or no handshake?); the job is incomplete",
+                        last, 7, false);
+    s_.t_.write(o_.newline ? "OE;\n" : "OE;");
+    std::string r;
+    if (!s_.read_reply(r, Millis(30000)))
+      throw TransportError(TransportError::Kind::Timeout, "the plotter on " + s_.t_.describe() + " does not answer OE");
+    const int code = std::atoi(r.c_str());
+    if (code != 0)
+      throw DeviceError("the plotter reports HP-GL error " + std::to_string(code) + " (" + error_meaning(code) +
+                            ") after line " + std::to_string(last + 1),
+                        last, code, false);
+  }
+
+  Streamer& s_;
+  const Options& o_;
+  StreamSession session_;
+  StreamControls* controls_;
+  std::string data_;
+  std::vector<size_t> ends_;  // end offset of each item in data_
+  size_t sent_ = 0, acked_upto_ = 0;
+};
+
+StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
+                              const ProgressFn& progress, StreamControls* controls) {
+  return JobRun(*this, job, start, preamble, journal, progress, controls).run();
+}
+
+}  // namespace stipplot::io::hpgl

@@ -1,0 +1,54 @@
+#pragma once
+// The resume journal kept next to a job file: which lines the device acknowledged, so
+// `plot --resume` continues where a disconnect, power loss or abort left off.
+#include <cstdint>
+#include <string>
+
+namespace stipplot::io {
+
+// The job's fingerprint in the journal (FNV-1a): a job edited since it was started is refused.
+uint64_t fnv1a64(const std::string& data);
+
+struct JournalHeader {
+  std::string job_path, job_hash, dialect, profile, port;
+  size_t total_lines = 0;
+};
+
+struct JournalState {
+  JournalHeader header;
+  long last_acked = -1;  // index of the last line the device acknowledged
+  bool complete = false;
+};
+
+// Append-only file JOB.journal: a JSON header line, then "ack N" records and "done".
+// Records are fsync'd at most every `sync_interval_ms` while streaming (a host crash
+// may repeat that much), and always on sync() / close (device faults lose nothing).
+class Journal {
+ public:
+  static std::string path_for(const std::string& job_path) { return job_path + ".journal"; }
+  // Creates (or, with append, continues) the journal.
+  Journal(std::string path, const JournalHeader& h, bool append = false, int sync_interval_ms = 100);
+  ~Journal();
+  Journal(const Journal&) = delete;
+  Journal& operator=(const Journal&) = delete;
+  void ack(size_t line);
+  // Moves the acknowledged point back (after an abort: acked lines the device
+  // discarded from its buffer).
+  void rollback_to(long line);
+  void done();
+  void sync();
+  long last_acked() const { return last_; }
+  const std::string& path() const { return path_; }
+  // Throws UserError if missing or malformed.
+  static JournalState load(const std::string& path);
+
+ private:
+  void append_record(const std::string& rec, bool force_sync);
+  std::string path_;
+  int fd_ = -1;
+  long last_ = -1, last_written_ = -1;
+  int sync_ms_;
+  int64_t last_sync_ns_ = 0;
+};
+
+}  // namespace stipplot::io

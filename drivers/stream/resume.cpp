@@ -1,0 +1,131 @@
+#include "drivers/stream/resume.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "drivers/job/gcode_reader.hpp"
+#include "util/error.hpp"
+
+namespace stipplot::io {
+
+namespace {
+
+bool is_gcode_pen_line(const std::string& text) {
+  bool xy = false, z = false, pen = false;
+  for (const GcodeWord& w : gcode_words(text)) {
+    if (w.letter == 'X' || w.letter == 'Y') xy = true;
+    if (w.letter == 'Z') z = true;
+    if (w.letter == 'S') pen = true;
+    if (w.letter == 'M' && (std::lround(w.value) == 3 || std::lround(w.value) == 4 || std::lround(w.value) == 5))
+      pen = true;
+  }
+  return pen || (z && !xy);
+}
+
+bool is_dwell_line(const std::string& text) {
+  for (const GcodeWord& w : gcode_words(text))
+    if (is_dwell(w)) return true;
+  return false;
+}
+
+bool pen_down_before(const std::vector<JobLine>& L, size_t k) { return k == 0 ? false : L[k - 1].pen_down; }
+
+// A resume point right after the pen went down, before it moved: for a dot, the dot is
+// finished by the lift (skip to after its pen-up); for a stroke, start the stroke again
+// from its pen-down line.
+size_t settle_resume_point(const Job& job, size_t next) {
+  const auto& L = job.lines;
+  if (!pen_down_before(L, next)) return next;
+  size_t d = next;
+  while (d > 0 && L[d - 1].pen_down) --d;  // L[d] is the line that put the pen down
+  bool moved = false;
+  for (size_t k = d + 1; k < next; ++k) moved |= L[k].motion;
+  if (L[d].motion && job.dialect == Dialect::Hpgl) moved = true;  // PD x,y moves as it lands
+  if (moved) return next;
+  size_t u = next;
+  bool moves_ahead = false;
+  while (u < L.size() && L[u].pen_down) moves_ahead |= L[u++].motion;
+  if (u < L.size()) moves_ahead |= L[u].motion && job.dialect == Dialect::Hpgl;
+  return moves_ahead ? d : std::min(u + 1, L.size());
+}
+
+// G-code: the job's own pen commands (with the dwell that follows them), the modal
+// state at the resume point, and the travel there.
+std::vector<std::string> gcode_preamble(const std::vector<JobLine>& L, size_t next) {
+  GcodeModes modes;
+  double feed = 0;  // in program units, as the job wrote it
+  long pen_up = -1, pen_down = -1;
+  for (size_t k = 0; k < L.size(); ++k) {
+    if (is_gcode_pen_line(L[k].text)) {
+      if (L[k].pen_down && (k < next || pen_down < 0)) pen_down = static_cast<long>(k);
+      if (!L[k].pen_down && (k < next || pen_up < 0)) pen_up = static_cast<long>(k);
+    }
+    if (k >= next) continue;
+    for (const GcodeWord& w : gcode_words(L[k].text)) {
+      modes.apply(w);
+      if (w.letter == 'F') feed = w.value;
+    }
+  }
+  if (!modes.absolute)
+    throw UserError("cannot resume: the job is in relative mode (G91) at line " + std::to_string(next + 1));
+  std::vector<std::string> pre = {"G21", "G90"};
+  auto with_dwell = [&](long k) {
+    if (k < 0) return;
+    pre.push_back(L[static_cast<size_t>(k)].text);
+    if (static_cast<size_t>(k) + 1 < L.size() && is_dwell_line(L[static_cast<size_t>(k) + 1].text))
+      pre.push_back(L[static_cast<size_t>(k) + 1].text);
+  };
+  if (pen_up < 0) throw UserError("cannot resume: the job never lifts the pen, so there is no pen-up command to use");
+  with_dwell(pen_up);
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "G0 X%.4f Y%.4f", next ? L[next - 1].x : 0.0, next ? L[next - 1].y : 0.0);
+  pre.push_back(buf);
+  if (pen_down_before(L, next)) with_dwell(pen_down);
+  if (modes.scale != 1) pre.push_back("G20");
+  if (modes.motion == 1 && feed > 0) {
+    std::snprintf(buf, sizeof buf, "G1 F%.4g", feed);
+    pre.push_back(buf);
+  } else if (modes.motion == 0) {
+    pre.push_back("G0");
+  }
+  return pre;
+}
+
+// HPGL: lift, the pen and velocity in use, travel, and the pen down again if it was.
+std::vector<std::string> hpgl_preamble(const std::vector<JobLine>& L, size_t next) {
+  std::string sp, vs;
+  for (size_t k = 0; k < next; ++k) {
+    if (L[k].text.rfind("SP", 0) == 0) sp = L[k].text;
+    if (L[k].text.rfind("VS", 0) == 0) vs = L[k].text;
+  }
+  std::vector<std::string> pre = {"PU;"};
+  if (!sp.empty()) pre.push_back(sp);
+  if (!vs.empty()) pre.push_back(vs);
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "PA;PU%.10g,%.10g;", next ? L[next - 1].x : 0.0, next ? L[next - 1].y : 0.0);
+  pre.push_back(buf);
+  if (pen_down_before(L, next)) pre.push_back("PD;");
+  return pre;
+}
+
+}  // namespace
+
+ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device) {
+  const auto& L = job.lines;
+  next = std::min(next, L.size());
+  bool in_place = device.known && next > 0 && device.down == pen_down_before(L, next) &&
+                  std::abs(device.x - L[next - 1].x) < 0.01 && std::abs(device.y - L[next - 1].y) < 0.01;
+  if (in_place && job.dialect == Dialect::GCode) {
+    // Pen already as it was: only the modal state needs restoring (as a full resume
+    // from the settled point would restore it).
+    ResumePlan rp{next, {}};
+    for (const auto& l : gcode_preamble(L, settle_resume_point(job, next)))
+      if (l == "G21" || l == "G90" || l == "G20" || l == "G0" || l.rfind("G1 F", 0) == 0) rp.preamble.push_back(l);
+    return rp;
+  }
+  next = settle_resume_point(job, next);
+  return {next, job.dialect == Dialect::GCode ? gcode_preamble(L, next) : hpgl_preamble(L, next)};
+}
+
+}  // namespace stipplot::io

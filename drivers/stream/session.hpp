@@ -1,0 +1,56 @@
+#pragma once
+// The bookkeeping of one streaming session, the same whatever the protocol: what is
+// sent (the resume preamble, then job lines from `start`), which job lines the device
+// has done (counted and journalled), progress with an ETA, and the result.
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "drivers/job/job.hpp"
+#include "drivers/stream/journal.hpp"
+#include "drivers/stream/stream.hpp"
+
+namespace stipplot::io {
+
+class StreamSession {
+ public:
+  StreamSession(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
+                const ProgressFn& progress);
+
+  // Items are what is sent, in order: the preamble, then the job's lines from start.
+  size_t items() const { return preamble_.size() + (job_.lines.size() > start_ ? job_.lines.size() - start_ : 0); }
+  const std::string& text(size_t item) const;
+  long job_line(size_t item) const;  // -1 for a preamble line
+  const Job& job() const { return job_; }
+
+  // The device has done job line `line`.
+  void acknowledge(long line);
+  // Calls the progress callback: `items_sent` items are out, the device last said this.
+  void report(size_t items_sent, const std::string& state = {}, double x = 0, double y = 0);
+  // Back to `line` as the last one done (the device discarded lines it had acknowledged).
+  void rollback_to(long line);
+  // Makes the journal durable before an error leaves the session.
+  void sync_journal();
+  // The job ran to the end: the journal says so.
+  void complete();
+  void all_lines_done() { progress_.lines_acked = job_.lines.size(); }
+
+  double elapsed_s() const;
+  StreamResult& result() { return res_; }
+  const StreamResult& result() const { return res_; }
+  // The result as it stands, timed.
+  StreamResult finish();
+
+ private:
+  const Job& job_;
+  size_t start_;
+  const std::vector<std::string>& preamble_;
+  Journal* journal_;
+  const ProgressFn& progress_fn_;
+  std::chrono::steady_clock::time_point t0_;
+  StreamResult res_;
+  StreamProgress progress_;
+  double est_done_ = 0;  // the time model's seconds for the lines done
+};
+
+}  // namespace stipplot::io

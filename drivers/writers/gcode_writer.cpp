@@ -1,0 +1,268 @@
+#include "drivers/writers/gcode_writer.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "drivers/device/machine.hpp"
+#include "util/error.hpp"
+
+namespace stipplot {
+
+namespace {
+
+// Digits after the point needed to print multiples of `step` exactly (0.01 -> 2, 0.025 -> 3).
+int decimals_for(double step) {
+  for (int d = 0; d <= 6; ++d) {
+    double scaled = step * std::pow(10.0, d);
+    if (std::fabs(scaled - std::round(scaled)) < 1e-6) return d;
+  }
+  return 6;
+}
+
+// Prints v with at most `decimals` digits, trailing zeros and a lone point trimmed.
+void append_number(std::string& out, double v, int decimals) {
+  char buf[48];
+  int n = std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string_view s(buf, static_cast<size_t>(n));
+  if (s.find('.') != std::string_view::npos) {
+    while (s.back() == '0') s.remove_suffix(1);
+    if (s.back() == '.') s.remove_suffix(1);
+  }
+  if (s == "-0") s = "0";
+  out += s;
+}
+
+class GcodeEmitter {
+ public:
+  GcodeEmitter(const Plan& plan, const DeviceProfile& p, const LineSink& sink, const GcodeOptions& opt)
+      : plan_(plan), p_(p), sink_(sink), opt_(opt), t_(p, plan.page), decimals_(decimals_for(t_.step_mm())) {
+    pow10_ = 1;
+    for (int i = 0; i < decimals_; ++i) pow10_ *= 10;
+    double k = t_.step_mm() * static_cast<double>(pow10_);
+    if (decimals_ < 6 && std::fabs(k - std::round(k)) < 1e-6) step_units_ = std::llround(k);
+  }
+
+  void run() {
+    size_t strokes = 0;
+    for (const auto& l : plan_.layers) strokes += l.strokes.size();
+    if (opt_.comments) {
+      comment("stipplot G-code for profile " + p_.name + ": " + p_.description);
+      std::string page = "page ";
+      append_number(page, plan_.page.width_mm, 3);
+      page += " x ";
+      append_number(page, plan_.page.height_mm, 3);
+      page += " mm, " + std::to_string(plan_.layers.size()) + " layer(s), " + std::to_string(strokes) + " stroke(s)";
+      comment(page);
+    }
+    emit("G21");  // millimetres
+    emit("G90");  // absolute
+    emit("G94");  // feed per minute
+    pen_up(true);
+    for (size_t li = 0; li < plan_.layers.size(); ++li) {
+      const PlannedLayer& layer = plan_.layers[li];
+      std::string label = "layer " + std::to_string(li + 1) + " pen " + layer.pen.name + " (" +
+                          layer.pen.color.hex() + ")";
+      if (li > 0) {
+        pen_up(false);
+        // grbl prints "(MSG,...)" as [MSG:...] and waits at M0 until cycle start (~).
+        // G-code comments do not nest and grbl's line buffer holds 80 characters, so
+        // the message carries no parentheses and is kept short.
+        std::string msg = "Change pen: layer " + std::to_string(li + 1) + " " + layer.pen.name + " " +
+                          layer.pen.color.hex();
+        for (char& ch : msg)
+          if (ch == '(' || ch == ')') ch = ' ';
+        if (msg.size() > 60) msg.resize(60);
+        emit("M0 (MSG," + msg + ")");
+      } else if (opt_.comments) {
+        comment(label);
+      }
+      for (const auto& s : layer.strokes) stroke(s);
+    }
+    pen_up(false);
+    move_rapid({0, 0});
+    if (p_.pen.method == PenMethod::laser || p_.pen.method == PenMethod::servo) emit("M5");
+    emit("M2");
+  }
+
+ private:
+  void emit(const std::string& line) { sink_(line); }
+  void comment(const std::string& text) { sink_("; " + text); }
+
+  void xy(std::string& line, Steps s) {
+    line += " X";
+    coordinate(line, s.x);
+    line += " Y";
+    coordinate(line, s.y);
+  }
+
+  // steps * step_mm printed exactly: with step = k / 10^decimals (k whole) the value is the
+  // integer steps*k with the point `decimals` digits from the right, zeros trimmed.
+  void coordinate(std::string& out, int64_t steps) {
+    if (step_units_ <= 0) {
+      append_number(out, static_cast<double>(steps) * t_.step_mm(), decimals_);
+      return;
+    }
+    int64_t v = steps * step_units_;
+    if (v < 0) {
+      out += '-';
+      v = -v;
+    }
+    int64_t whole = v / pow10_, frac = v % pow10_;
+    char buf[32];
+    int n = std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(whole));
+    out.append(buf, static_cast<size_t>(n));
+    if (frac) {
+      char digits[16];
+      int d = decimals_;
+      for (int i = d - 1; i >= 0; --i) {
+        digits[i] = static_cast<char>('0' + frac % 10);
+        frac /= 10;
+      }
+      while (d > 0 && digits[d - 1] == '0') --d;
+      out += '.';
+      out.append(digits, static_cast<size_t>(d));
+    }
+  }
+
+  void feed(std::string& line, double mm_s) {
+    const double f = mm_s * 60.0;
+    if (f == feed_) return;
+    feed_ = f;
+    line += " F";
+    append_number(line, f, 1);
+  }
+
+  void move_rapid(Steps s) {
+    if (have_pos_ && s == pos_) return;
+    std::string line = "G0";
+    xy(line, s);
+    emit(line);
+    pos_ = s;
+    have_pos_ = true;
+  }
+
+  // M3 S<s> (servo position) or M4 S<s> (laser power).
+  void spindle(const char* m, double s) {
+    std::string line = m;
+    line += " S";
+    append_number(line, s, 3);
+    emit(line);
+  }
+
+  void dwell(double seconds) {
+    if (seconds <= 0) return;
+    std::string line = "G4 P";
+    append_number(line, seconds, 3);
+    emit(line);
+  }
+
+  void pen_down() {
+    if (down_) return;
+    std::string line;
+    switch (p_.pen.method) {
+      case PenMethod::servo:
+        spindle("M3", p_.pen.servo_down_s);
+        dwell(p_.motion.pen_drop_s);
+        break;
+      case PenMethod::z_axis:
+        line = "G1 Z";
+        append_number(line, p_.pen.z_down_mm, 3);
+        feed(line, p_.pen.z_feed_mm_s);
+        emit(line);
+        break;
+      case PenMethod::laser:
+        spindle("M4", p_.pen.laser_power_s);
+        dwell(p_.motion.pen_drop_s);
+        break;
+      case PenMethod::hpgl:
+        throw std::logic_error("G-code writer given an HPGL profile");
+    }
+    down_ = true;
+  }
+
+  void pen_up(bool force) {
+    if (!down_ && !force) return;
+    std::string line;
+    switch (p_.pen.method) {
+      case PenMethod::servo:
+        if (p_.pen.servo_up_s > 0) spindle("M3", p_.pen.servo_up_s);
+        else emit("M5");
+        dwell(p_.motion.pen_lift_s);
+        break;
+      case PenMethod::z_axis:
+        line = "G0 Z";
+        append_number(line, p_.pen.z_up_mm, 3);
+        emit(line);
+        break;
+      case PenMethod::laser:
+        emit("M5");
+        dwell(p_.motion.pen_lift_s);
+        break;
+      case PenMethod::hpgl:
+        throw std::logic_error("G-code writer given an HPGL profile");
+    }
+    down_ = false;
+  }
+
+  void stroke(const Stroke& s) {
+    if (s.pts.empty()) return;
+    Steps first = t_.to_steps(s.pts[0]);
+    if (!(down_ && have_pos_ && first == pos_)) {
+      pen_up(false);
+      move_rapid(first);
+    }
+    pen_down();
+    bool drew = false;
+    for (size_t i = 1; i < s.pts.size(); ++i) {
+      Steps q = t_.to_steps(s.pts[i]);
+      if (q == pos_) continue;  // shorter than the resolution
+      std::string line = "G1";
+      xy(line, q);
+      feed(line, p_.motion.speed_down_mm_s);
+      emit(line);
+      pos_ = q;
+      drew = true;
+    }
+    if (!drew) dwell(p_.pen.dot_dwell_s);
+    pen_up(false);
+  }
+
+  const Plan& plan_;
+  const DeviceProfile& p_;
+  const LineSink& sink_;
+  const GcodeOptions& opt_;
+  MachineTransform t_;
+  int decimals_;
+  int64_t pow10_ = 1;
+  int64_t step_units_ = 0;  // step_mm * 10^decimals when whole, else 0 (printf path)
+  Steps pos_;
+  bool have_pos_ = false;
+  bool down_ = false;
+  double feed_ = -1;
+};
+
+}  // namespace
+
+void write_gcode(const Plan& plan, const DeviceProfile& profile, const LineSink& sink, const GcodeOptions& opt) {
+  if (profile.protocol != Protocol::grbl)
+    throw UserError("profile " + profile.name + " speaks " + to_string(profile.protocol) + ", not G-code; write .hpgl");
+  check_plan_fits(plan, profile);
+  GcodeEmitter(plan, profile, sink, opt).run();
+}
+
+std::vector<std::string> gcode_lines(const Plan& plan, const DeviceProfile& profile, const GcodeOptions& opt) {
+  std::vector<std::string> out;
+  write_gcode(plan, profile, [&](std::string_view l) { out.emplace_back(l); }, opt);
+  return out;
+}
+
+void write_gcode_file(const Plan& plan, const DeviceProfile& profile, const std::string& path,
+                      const GcodeOptions& opt) {
+  if (profile.protocol != Protocol::grbl)
+    throw UserError("profile " + profile.name + " speaks " + to_string(profile.protocol) + ", not G-code; write .hpgl");
+  check_plan_fits(plan, profile);  // before the file is created
+  write_lines_atomic(path, [&](const LineSink& sink) { write_gcode(plan, profile, sink, opt); });
+}
+
+}  // namespace stipplot
