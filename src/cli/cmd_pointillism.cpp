@@ -56,7 +56,7 @@ void register_pointillism(CLI::App& app) {
       ->capture_default_str()->group(g);
   cmd->add_option("--weight,-W", args->p.weight, "W: weight of the pure colour's dot count (paper: 0.5, 1, 1.4)")
       ->capture_default_str()->group(g);
-  cmd->add_option("--radius,-r", args->radius, "Circle radius: input pixels (3, 3px) or millimetres (0.5mm)")
+  cmd->add_option("--radius,-r", args->radius, "Circle radius: input pixels (3, 3px; a bare number is pixels) or on paper (0.5mm, 0.05cm, ...)")
       ->capture_default_str()->group(g);
   cmd->add_option("--alpha-ebauche", args->p.alpha_ebauche, "Ebauche PDS: reject when d < alpha (r_i + r_j)")
       ->capture_default_str()->group(g);
@@ -90,15 +90,9 @@ void register_pointillism(CLI::App& app) {
     PointillismArgs& a = *args;
     a.p.ebauche = !a.no_ebauche;
     a.p.strokes = !a.no_strokes;
-    Length radius;
-    try {
-      radius = Length::parse(a.radius, "--radius");
-    } catch (const UserError&) {
-      throw UserError("--radius must be a number > 0 of input pixels (3, 3px) or millimetres (0.5mm), got '" +
-                      a.radius + "'");
-    }
-    // A bare number is pixels here (the paper's r = 3 px); "mm" asks for millimetres on paper.
-    const bool radius_mm = a.radius.size() > 2 && a.radius.compare(a.radius.size() - 2, 2, "mm") == 0;
+    // A bare number is pixels here (the paper's r = 3 px); a paper unit asks for a size on paper.
+    const Length radius = Length::parse(a.radius, "--radius", Length::Bare::px);
+    const bool radius_mm = !radius.in_px;
     if (!(radius.value > 0)) throw UserError("--radius must be > 0, got '" + a.radius + "'");
     require_nonnegative("--fidelity-sigma", a.fidelity_sigma);
     if (!radius_mm) {

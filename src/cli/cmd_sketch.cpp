@@ -20,6 +20,7 @@ struct SketchArgs {
   std::string space = "rgb";
   std::string pens_file;
   std::string cell = "auto";
+  std::string mark = "1.2", edge_length = "3.5";
   std::string lighten = "auto";
   std::string preview_style = "paper";
   std::string sampler = "lds";
@@ -49,8 +50,8 @@ void register_sketch(CLI::App& app) {
       ->capture_default_str()->group("Sketch");
   cmd->add_option("--cell", args->cell, "Sampling grid cell: mm on paper (0.6, 0.6mm), input pixels (3px), or auto: sqrt(--mark x pen width), one mark's ink per cell")
       ->capture_default_str()->group("Sketch");
-  cmd->add_option("--mark", args->p.mark_mm, "Stroke length in mm where the image is flat")->capture_default_str()->group("Strokes");
-  cmd->add_option("--edge-length", args->p.edge_mm, "Stroke length in mm at strong edges")->capture_default_str()->group("Strokes");
+  cmd->add_option("--mark", args->mark, "Stroke length where the image is flat: mm (1.2, 1.2mm), cm, in or pt")->capture_default_str()->group("Strokes");
+  cmd->add_option("--edge-length", args->edge_length, "Stroke length at strong edges: mm (3.5, 3.5mm), cm, in or pt")->capture_default_str()->group("Strokes");
   cmd->add_option("--edge-low", args->p.edge_low, "Gradient (luma change per cell, 0..1) above which strokes follow the edge")
       ->capture_default_str()->group("Strokes");
   cmd->add_option("--edge-high", args->p.edge_high, "Gradient at which strokes are longest and thickest")->capture_default_str()->group("Strokes");
@@ -90,6 +91,8 @@ void register_sketch(CLI::App& app) {
       throw UserError("--reach applies to --pens palettes only (rgb and hsi use the paper's values)");
     }
     a.p.cell = a.cell == "auto" ? Length{0, false} : Length::parse(a.cell, "--cell");
+    a.p.mark_mm = parse_paper_mm(a.mark, "--mark");
+    a.p.edge_mm = parse_paper_mm(a.edge_length, "--edge-length");
     if (a.cell != "auto" && a.p.cell.value <= 0) throw UserError("--cell must be > 0 (or auto)");
     a.p.lighten = sketch::parse_lighten(a.lighten);
     a.p.hsi_black = sketch::parse_hsi_black(a.hsi_black);

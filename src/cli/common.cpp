@@ -14,6 +14,7 @@
 #include "svg/svg_writer.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
+#include "util/units.hpp"
 
 namespace stipplot::cli {
 
@@ -22,9 +23,9 @@ namespace fs = std::filesystem;
 Placement PlacementArgs::resolve() const {
   Placement p;
   p.page = parse_page(page);
-  p.margin_mm = margin;
+  p.margin_mm = parse_paper_mm(margin, "--margin");
   p.landscape = landscape;
-  p.pen_width_mm = pen_width;
+  p.pen_width_mm = parse_paper_mm(pen_width, "--pen-width");
   p.dot_size = Length::parse(dot_size, "--dot-size");
   p.validate();
   return p;
@@ -33,11 +34,11 @@ Placement PlacementArgs::resolve() const {
 void add_placement_options(CLI::App* cmd, PlacementArgs& a) {
   cmd->add_option("--page", a.page, "Paper: A5, A4, A3, A2, letter, legal, tabloid or WxHmm")
       ->capture_default_str()->group("Page");
-  cmd->add_option("--margin", a.margin, "Margin in mm on every side")->capture_default_str()->group("Page");
+  cmd->add_option("--margin", a.margin, "Margin on every side: mm (10, 10mm), cm, in or pt")->capture_default_str()->group("Page");
   cmd->add_flag("--landscape", a.landscape, "Long side of the page horizontal")->group("Page");
-  cmd->add_option("--pen-width", a.pen_width, "Pen width in mm")->capture_default_str()->group("Page");
+  cmd->add_option("--pen-width", a.pen_width, "Pen width: mm (0.3, 0.3mm), cm, in or pt")->capture_default_str()->group("Page");
   cmd->add_option("--dot-size", a.dot_size,
-                  "Drawn dot diameter: mm (0.4, 0.4mm) or input pixels (1.5px); 0 = one pen touch")
+                  "Drawn dot diameter: mm (0.4, 0.4mm), cm, in, pt or input pixels (1.5px); 0 = one pen touch")
       ->capture_default_str()->group("Page");
 }
 

@@ -15,9 +15,9 @@ namespace stipplot::cli {
 
 struct PlacementArgs {
   std::string page = "A4";
-  double margin = 10;
+  std::string margin = "10";
   bool landscape = false;
-  double pen_width = 0.3;
+  std::string pen_width = "0.3";
   std::string dot_size = "0";
   Placement resolve() const;  // throws UserError
 };
