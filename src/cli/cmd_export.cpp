@@ -22,7 +22,7 @@ struct ExportArgs {
   std::string tolerance = "0.05";
   std::string pen_width = "0.3";
   bool show_travel = false;
-  bool json = false, quiet = false;
+  ReportArgs report;
 };
 }  // namespace
 
@@ -44,8 +44,7 @@ void register_export(CLI::App& app) {
       ->capture_default_str()->group("Output");
   cmd->add_flag("--show-travel", args->show_travel, "Planned SVG: add the pen-up travel as a hidden layer")->group("Output");
   cmd->add_option("--preview", args->preview, "Also write a preview PNG of the drawing as read")->group("Output");
-  cmd->add_flag("--json", args->json, "Print a one-line JSON summary instead of prose")->group("Output");
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success")->group("Output");
+  add_report_options(cmd, args->report);
   cmd->add_option("--tolerance", args->tolerance, "Curve flattening tolerance: mm (0.05, 0.05mm), cm, in or pt")->capture_default_str()->group("Input");
   cmd->add_option("--pen-width", args->pen_width, "Pen width where the SVG gives no stroke width: mm (0.3, 0.3mm), cm, in or pt")
       ->capture_default_str()->group("Input");
@@ -60,7 +59,7 @@ void register_export(CLI::App& app) {
     (void)output_kind(a.output);
     (void)a.plan.resolve();
     require_writable_dir(a.output);
-    if (!a.preview.empty()) require_writable_dir(a.preview);
+    if (!a.preview.empty()) require_png_path("--preview", a.preview);
     SvgReadOptions ro;
     ro.tolerance_mm = tolerance_mm;
     ro.default_pen_width_mm = pen_width_mm;
@@ -79,19 +78,14 @@ void register_export(CLI::App& app) {
       s["preview"] = a.preview;
     }
     s["seconds"] = seconds_since(t0);
-    if (a.json) {
-      std::printf("%s\n", s.dump().c_str());
-    } else if (!a.quiet) {
-      const auto& total = s["plan"]["total"];
-      std::ostringstream h;
-      h.precision(1);
-      h << std::fixed << "wrote " << a.output << " for " << s["profile"].get<std::string>() << ": "
-        << d.layers.size() << (d.layers.size() == 1 ? " layer, " : " layers, ") << total.value("strokes", size_t{0})
-        << " strokes, pen down " << total.value("pen_down_mm", 0.0) / 1000 << " m, pen up "
-        << total.value("pen_up_mm", 0.0) / 1000 << " m, about " << total.value("seconds", 0.0) / 60
-        << " min to plot (" << s["seconds"].get<double>() << " s)";
-      std::printf("%s\n", h.str().c_str());
-    }
+    const auto& total = s["plan"]["total"];
+    std::ostringstream h;
+    h.precision(1);
+    h << std::fixed << "wrote " << a.output << " for " << s["profile"].get<std::string>() << ": "
+      << layers_phrase(d.layers.size()) << ", " << total.value("strokes", size_t{0}) << " strokes, pen down "
+      << total.value("pen_down_mm", 0.0) / 1000 << " m, pen up " << total.value("pen_up_mm", 0.0) / 1000
+      << " m, about " << total.value("seconds", 0.0) / 60 << " min to plot (" << s["seconds"].get<double>() << " s)";
+    a.report.print(s, h.str());
   });
 }
 
