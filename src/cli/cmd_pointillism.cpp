@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/method_command.hpp"
 #include "eval/color_difference.hpp"
+#include "methods/palette.hpp"
 #include "methods/pointillism/pens.hpp"
 #include "methods/pointillism/pointillism.hpp"
 #include "util/error.hpp"
@@ -39,9 +40,8 @@ void resolve(PointillismArgs& a) {
     a.p.validate();
   }
   a.pens.clear();
-  if (!a.pens_file.empty()) a.pens = pointillism::load_pens(a.pens_file);
+  if (!a.pens_file.empty()) a.pens = load_palette(a.pens_file, pointillism::kDefaultPenWidthMm).pens;
   else if (a.plot_pens) a.pens = pointillism::default_pens();
-  if (!a.pens_file.empty() && a.pens.empty()) throw UserError("--pens " + a.pens_file + ": the palette is empty");
 }
 
 nlohmann::json regions_summary(const pointillism::Result& res) {

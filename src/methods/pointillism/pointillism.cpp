@@ -5,7 +5,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "methods/pointillism/pens.hpp"
+#include "methods/palette.hpp"
 #include "util/error.hpp"
 
 namespace stipplot::pointillism {

@@ -18,7 +18,7 @@
 #include "geometry/drawing.hpp"
 #include "image/image.hpp"
 #include "methods/placement.hpp"
-#include "methods/pointillism/lab.hpp"
+#include "eval/lab.hpp"
 #include "util/rng.hpp"
 
 namespace stipplot::pointillism {
