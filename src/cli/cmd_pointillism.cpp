@@ -83,12 +83,12 @@ MethodResult draw(PointillismArgs& a, const MethodInput& in) {
   if (a.fidelity) {
     const double sigma = a.fidelity_sigma > 0 ? a.fidelity_sigma : 2 * a.p.radius_px;
     out.measure = [sigma, pens](MethodRun& run) {
-      const double de = pointillism::mean_delta_e00_blurred(run.input, run.drawing_over_image(pens), sigma);
+      const double de = mean_delta_e00_blurred(run.input, run.drawing_over_image(pens), sigma);
       run.summary["mean_de00"] = de;
       // With pens, also as if the inks were opaque: the palette's error alone, without
       // the darkening of translucent ink where circles overlap.
       if (pens)
-        run.summary["mean_de00_opaque"] = pointillism::mean_delta_e00_blurred(run.input, run.drawing_over_image(false), sigma);
+        run.summary["mean_de00_opaque"] = mean_delta_e00_blurred(run.input, run.drawing_over_image(false), sigma);
       run.summary["fidelity_sigma_px"] = sigma;
       run.note("mean dE00", de);
     };

@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "eval/color_difference.hpp"
 #include "eval/fidelity.hpp"
 #include "image/image.hpp"
 #include "methods/palette.hpp"
@@ -421,12 +422,12 @@ TEST_CASE("the ebauche brings the blurred drawing closer to the input (mean CIED
     po.dpi = 25.4 / pl.transform(img.width, img.height).mm_per_px();
     const Image page = render_preview(d, po);
     const Image drawn = crop_to_image(page, pl.transform(img.width, img.height), img.width, img.height);
-    return pointillism::mean_delta_e00_blurred(img, drawn, 2 * p.radius_px);
+    return mean_delta_e00_blurred(img, drawn, 2 * p.radius_px);
   };
   const double with = measure(true), without = measure(false);
   CHECK(with < without);
   CHECK(with < 12);
-  CHECK(pointillism::mean_delta_e00_blurred(img, img, 6) == Approx(0).margin(1e-9));
+  CHECK(mean_delta_e00_blurred(img, img, 6) == Approx(0).margin(1e-9));
 }
 
 TEST_CASE("CLI - pointillism writes SVG - preview and JSON - bad input fails with no file", "[pointillism][cli]") {
