@@ -8,7 +8,7 @@
 #include <ctime>
 
 #include "methods/stipple/stipple.hpp"
-#include "plan/emst.hpp"
+#include "spatial/mst.hpp"
 #include "plan/motion.hpp"
 #include "plan/planner.hpp"
 #include "plan/tour.hpp"
@@ -76,7 +76,7 @@ static void BM_PlanUniformDots(benchmark::State& state) {
   d.layers.resize(1);
   for (const Vec2& p : pts) d.layers[0].dots.push_back({p, 0.3});
   Timer tm;
-  const double mst = plan::total_length(plan::euclidean_mst(pts));
+  const double mst = spatial::total_cost(spatial::euclidean_mst(pts));
   const double mst_s = tm.wall_s();
   std::vector<int32_t> partner(n, -1);
   std::vector<uint32_t> gen(n);
@@ -114,7 +114,7 @@ static void BM_TourLocalOptimum(benchmark::State& state) {
   const size_t n = static_cast<size_t>(state.range(0));
   const auto pts = uniform_dots(n, 200, 42);
   std::vector<int32_t> partner(n, -1);
-  const double mst = plan::total_length(plan::euclidean_mst(pts));
+  const double mst = spatial::total_cost(spatial::euclidean_mst(pts));
   plan::TourStats st;
   double planned = 0;
   for (auto _ : state) {

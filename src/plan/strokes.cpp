@@ -6,7 +6,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "plan/kdtree.hpp"
+#include "spatial/kdtree.hpp"
 #include "util/error.hpp"
 
 namespace stipplot::plan {
@@ -112,12 +112,12 @@ std::vector<Stroke> join_polylines(const std::vector<Polyline>& lines, double to
     const auto& odd = odd_by_comp[c];
     std::vector<Vec2> p(odd.size());
     for (size_t k = 0; k < odd.size(); ++k) p[k] = snap.pts[odd[k]];
-    KdTree tree(p);
+    spatial::PlaneTree tree = spatial::plane_tree(p);
     for (uint32_t k = 0; k < odd.size(); ++k) {
       if (tree.alive() == 0) break;
       if (paired.count(k)) continue;
       tree.erase(k);
-      const uint32_t b = tree.nearest_alive(p[k]);
+      const uint32_t b = tree.nearest_alive(spatial::plane_point(p[k]));
       tree.erase(b);
       paired.insert(b);
       edges.push_back({odd[k], odd[b], -1});

@@ -6,7 +6,7 @@
 #include <map>
 #include <tuple>
 
-#include "plan/emst.hpp"
+#include "spatial/mst.hpp"
 #include "plan/planner.hpp"
 #include "plan/stats.hpp"
 #include "plan/strokes.hpp"
@@ -103,7 +103,7 @@ TEST_CASE("tree strokes: random recursive trees need half their odd vertices", "
 TEST_CASE("tree strokes: Euclidean MSTs, paths and stars", "[plan][tree]") {
   auto pts = random_points(2000, 100, 7);
   std::vector<std::pair<uint32_t, uint32_t>> mst;
-  for (const auto& e : plan::euclidean_mst(pts)) mst.push_back({e.a, e.b});
+  for (const auto& e : spatial::euclidean_mst(pts)) mst.push_back({e.a, e.b});
   REQUIRE(mst.size() == pts.size() - 1);
   check_tree(as_segments(pts, mst, 1));
 
@@ -142,7 +142,7 @@ TEST_CASE("EMST is exact against Prim on small sets", "[plan][tree]") {
       for (size_t v = 0; v < n; ++v)
         if (!in[v]) best[v] = std::min(best[v], std::hypot(pts[u].x - pts[v].x, pts[u].y - pts[v].y));
     }
-    CHECK(plan::total_length(plan::euclidean_mst(pts)) == Approx(prim).epsilon(1e-12));
+    CHECK(spatial::total_cost(spatial::euclidean_mst(pts)) == Approx(prim).epsilon(1e-12));
   }
 }
 
@@ -186,7 +186,7 @@ TEST_CASE("dot tour is a permutation, shorter than generation order and greedy",
   const double t_opt = plan::tour_travel(pts, partner, {0, 0}, order);
   CHECK(t_opt < t_nn);
   CHECK(t_nn < t_gen / 5);
-  const double mst = plan::total_length(plan::euclidean_mst(pts));
+  const double mst = spatial::total_cost(spatial::euclidean_mst(pts));
   CHECK(t_opt < 1.25 * mst);
   // Deterministic at a local optimum.
   CHECK(plan::plan_tour(pts, partner, {0, 0}, full) == order);
@@ -225,7 +225,7 @@ TEST_CASE("plan_drawing keeps layers, pens and every segment", "[plan]") {
     l.pen.name = "pen" + std::to_string(k);
     auto pts = random_points(200, 100, 30 + k);
     std::vector<std::pair<uint32_t, uint32_t>> mst;
-    for (const auto& e : plan::euclidean_mst(pts)) mst.push_back({e.a, e.b});
+    for (const auto& e : spatial::euclidean_mst(pts)) mst.push_back({e.a, e.b});
     l.lines = as_segments(pts, mst, k);
     l.dots.push_back({{5, 5}, 0.2});
     l.circles.push_back({{50, 50}, 3, true});
