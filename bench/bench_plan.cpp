@@ -25,15 +25,6 @@ std::vector<Vec2> uniform_dots(size_t n, double side, uint64_t seed) {
   return p;
 }
 
-double travel(const Plan& p, Vec2 pos = {0, 0}) {
-  double s = 0;
-  for (const auto& l : p.layers)
-    for (const auto& st : l.strokes) {
-      s += std::hypot(st.pts.front().x - pos.x, st.pts.front().y - pos.y);
-      pos = st.pts.back();
-    }
-  return s;
-}
 
 struct Timer {
   std::chrono::steady_clock::time_point wall = std::chrono::steady_clock::now();
@@ -85,7 +76,7 @@ static void BM_PlanUniformDots(benchmark::State& state) {
   PlanOptions nn;
   nn.optimize_seconds = 0;
   Timer tn;
-  const double greedy = travel(plan_drawing(d, nn));
+  const double greedy = pen_up_travel(plan_drawing(d, nn));
   const double greedy_s = tn.wall_s();
   PlanOptions opt;  // defaults: 2 s improvement budget
   double planned = 0, wall = 0, cpu = 0;
@@ -95,7 +86,7 @@ static void BM_PlanUniformDots(benchmark::State& state) {
     const Plan p = plan_drawing(d, opt, &info);
     wall = t.wall_s();
     cpu = t.cpu_s();
-    planned = travel(p);
+    planned = pen_up_travel(p);
   }
   state.counters["ratio_planned_to_emst"] = planned / mst;
   state.counters["ratio_greedy_nn_to_emst"] = greedy / mst;
@@ -153,10 +144,10 @@ static void BM_PlanStipple(benchmark::State& state) {
     const Plan p = plan_drawing(d, PlanOptions{}, &info);
     plan_s = t1.wall_s();
     plan_cpu = t1.cpu_s();
-    planned = travel(p);
+    planned = pen_up_travel(p);
     PlanOptions nn;
     nn.optimize_seconds = 0;
-    greedy = travel(plan_drawing(d, nn));
+    greedy = pen_up_travel(plan_drawing(d, nn));
     Timer t2;
     estimate = estimate_seconds(p, MotionParams{});
     est_s = t2.wall_s();

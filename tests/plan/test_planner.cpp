@@ -77,15 +77,6 @@ void check_tree(const std::vector<Polyline>& lines) {
   CHECK(segments_of(strokes) == segments_of(lines));
 }
 
-double travel(const Plan& p, Vec2 start = {0, 0}) {
-  double s = 0;
-  for (const auto& l : p.layers)
-    for (const auto& st : l.strokes) {
-      s += std::hypot(st.pts.front().x - start.x, st.pts.front().y - start.y);
-      start = st.pts.back();
-    }
-  return s;
-}
 
 }  // namespace
 
@@ -215,7 +206,7 @@ TEST_CASE("strokes are ordered with free direction, each exactly once", "[plan][
   for (const auto& s : p.layers[0].strokes) touches += s.pts.size() == 1;
   CHECK(touches == 500);
   CHECK(p.layers[0].strokes.size() == 1000);
-  CHECK(travel(p) < travel(greedy));
+  CHECK(pen_up_travel(p) < pen_up_travel(greedy));
 }
 
 TEST_CASE("plan_drawing keeps layers, pens and every segment", "[plan]") {

@@ -21,6 +21,7 @@
 #include "methods/pointillism/pens.hpp"
 #include "methods/pointillism/pointillism.hpp"
 #include "preview/preview.hpp"
+#include "test_util.hpp"
 #include "util/error.hpp"
 
 using namespace stipplot;
@@ -30,44 +31,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kCoffee = std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png";
-
-struct Tmp {
-  fs::path dir;
-  Tmp() {
-    static int n = 0;
-    dir = fs::temp_directory_path() / ("stipplot-pointillism-" + std::to_string(::getpid()) + "-" + std::to_string(n++));
-    fs::create_directories(dir);
-  }
-  ~Tmp() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-  std::string file(const std::string& name) const { return (dir / name).string(); }
-};
-
-struct Run {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const std::string& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-Run cli(const std::string& args) {
-  Tmp t;
-  const std::string cmd =
-      std::string(STIPPLOT_BIN) + " " + args + " >" + t.file("out") + " 2>" + t.file("err") + " </dev/null";
-  const int rc = std::system(cmd.c_str());
-  Run r;
-  r.code = WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
-  r.out = slurp(t.file("out"));
-  r.err = slurp(t.file("err"));
-  return r;
-}
 
 // A small synthetic photo: a red disc on a blue-green gradient, with a grey strip.
 Image synthetic(int w = 160, int h = 120) {
@@ -431,32 +394,32 @@ TEST_CASE("the ebauche brings the blurred drawing closer to the input (mean CIED
 }
 
 TEST_CASE("CLI - pointillism writes SVG - preview and JSON - bad input fails with no file", "[pointillism][cli]") {
-  Tmp t;
-  Run ok = cli("pointillism " + kCoffee + " -o " + t.file("a.svg") + " --preview " + t.file("a.png") +
+  test::TempDir t;
+  test::RunResult ok = test::run_cli("pointillism " + kCoffee + " -o " + t.file("a.svg") + " --preview " + t.file("a.png") +
                " --regions 6 --weight 1.2 --json --fidelity");
   INFO(ok.err);
-  REQUIRE(ok.code == 0);
+  REQUIRE(ok.exit_code == 0);
   CHECK(fs::exists(t.file("a.svg")));
   CHECK(fs::exists(t.file("a.png")));
   CHECK(ok.out.find("\"mean_de00\"") != std::string::npos);
   CHECK(ok.out.find("\"command\":\"pointillism\"") != std::string::npos);
-  const std::string svg = slurp(t.file("a.svg"));
+  const std::string svg = test::read_file(t.file("a.svg"));
   CHECK(svg.find("ebauche") < svg.find("divided strokes"));
 
-  Run pens = cli("pointillism " + kCoffee + " -o " + t.file("p.svg") + " --plot-pens --radius 1mm -q");
-  CHECK(pens.code == 0);
-  CHECK(slurp(t.file("p.svg")).find("ebauche ") != std::string::npos);
+  test::RunResult pens = test::run_cli("pointillism " + kCoffee + " -o " + t.file("p.svg") + " --plot-pens --radius 1mm -q");
+  CHECK(pens.exit_code == 0);
+  CHECK(test::read_file(t.file("p.svg")).find("ebauche ") != std::string::npos);
 
   for (const std::string& args :
        {std::string("--regions 0"), std::string("--weight -1"), std::string("--radius 0"), std::string("--radius -2"),
         std::string("--weight nan"), std::string("--alpha-ebauche 0"), std::string("--pens ") + t.file("empty.toml")}) {
     std::ofstream(t.file("empty.toml")) << "# no pens\n";
-    Run r = cli("pointillism " + kCoffee + " -o " + t.file("bad.svg") + " " + args);
+    test::RunResult r = test::run_cli("pointillism " + kCoffee + " -o " + t.file("bad.svg") + " " + args);
     INFO(args << ": " << r.err);
-    CHECK(r.code != 0);
+    CHECK(r.exit_code != 0);
     CHECK(r.err.find("error") != std::string::npos);
     CHECK_FALSE(fs::exists(t.file("bad.svg")));
   }
-  Run help = cli("pointillism --help");
+  test::RunResult help = test::run_cli("pointillism --help");
   CHECK(help.out.find("Example:") != std::string::npos);
 }
