@@ -1,4 +1,4 @@
-// Planner benchmarks (issue 3). Quality is reported as ratios against baselines
+// Planner benchmarks. Quality is reported as ratios against baselines
 // computed in the same run; times as counters (wall and process CPU, since the
 // machine is shared).
 #include <benchmark/benchmark.h>
@@ -57,7 +57,7 @@ Image synthetic_photo(int w, int h) {
 
 }  // namespace
 
-// The issue's quality bar: 100,000 uniform random dots, pen-up travel of the plan at
+// The quality bar: 100,000 uniform random dots, pen-up travel of the plan at
 // most 1.20 x the weight of their Euclidean MST, planned in at most 3 s. Baselines in
 // the same run: greedy nearest neighbour alone and the dots in generation order.
 static void BM_PlanUniformDots(benchmark::State& state) {
@@ -123,8 +123,8 @@ static void BM_TourLocalOptimum(benchmark::State& state) {
 BENCHMARK(BM_TourLocalOptimum)->Arg(100000)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // ~200,000 stipple dots on a photo-like image: stippling, planning and the time
-// estimate in one run (the issue's `stipplot stipple ... -o x.gcode` under 5 s;
-// the G-code writer is another part's). Baseline: the stippling itself.
+// estimate in one run (`stipplot stipple ... -o x.gcode` must take under 5 s; the
+// G-code writer is timed in bench_writers). Baseline: the stippling itself.
 static void BM_PlanStipple(benchmark::State& state) {
   const Image img = synthetic_photo(static_cast<int>(state.range(0)), static_cast<int>(state.range(0)));
   StippleParams sp;

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "methods/tree/tree.hpp"
+#include "test_util.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
 
@@ -74,12 +75,11 @@ Image radial(int size) {
   return image_from(size, size, [&](int x, int y) { return 20 + 220 * std::hypot(x - c, y - c) / (c * std::sqrt(2.0)); });
 }
 
+// Runs `stipplot tree ARGS`; returns its stderr.
 std::string run_cli(const std::string& args, int* status) {
-  const std::string err = (std::filesystem::temp_directory_path() / "stipplot_tree_test_err.txt").string();
-  const std::string cmd = std::string(STIPPLOT_BIN) + " tree " + args + " 2>" + err + " >/dev/null";
-  *status = std::system(cmd.c_str());
-  std::ifstream f(err);
-  return std::string(std::istreambuf_iterator<char>(f), {});
+  const test::RunResult r = test::run_cli("tree " + args);
+  *status = r.exit_code;
+  return r.err;
 }
 
 }  // namespace
@@ -340,8 +340,8 @@ TEST_CASE("bad tree parameters are rejected naming the parameter", "[tree][error
 }
 
 TEST_CASE("stipplot tree CLI: bad parameters exit non-zero with the name and leave no output", "[tree][cli]") {
-  const auto dir = std::filesystem::temp_directory_path() / "stipplot_tree_cli";
-  std::filesystem::create_directories(dir);
+  const test::TempDir tmp;
+  const auto dir = tmp.path;
   const std::string in = std::string(STIPPLOT_SOURCE_DIR) + "/examples/horse.png";
   const std::string out = (dir / "t.svg").string(), land = (dir / "t.png").string();
   std::filesystem::remove(out);
