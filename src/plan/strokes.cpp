@@ -104,8 +104,7 @@ void pair_odd_vertices(const std::vector<Vec2>& vertex, std::vector<GEdge>& edge
       if (tree.alive() == 0) break;
       if (paired.count(k)) continue;
       tree.erase(k);
-      const uint32_t b = tree.nearest_alive(spatial::plane_point(p[k]));
-      tree.erase(b);
+      const uint32_t b = tree.take_nearest(spatial::plane_point(p[k]));
       paired.insert(b);
       edges.push_back({odd[k], odd[b], -1});
     }

@@ -20,8 +20,7 @@ std::vector<uint32_t> greedy(const std::vector<Vec2>& pts, const std::vector<int
   order.reserve(pts.size());
   Vec2 cur = start;
   while (tree.alive() > 0) {
-    uint32_t j = tree.nearest_alive(spatial::plane_point(cur));
-    tree.erase(j);
+    const uint32_t j = tree.take_nearest(spatial::plane_point(cur));
     order.push_back(j);
     cur = pts[j];
     if (partner[j] >= 0) {

@@ -30,6 +30,7 @@ class KdTree {
     T lo[D], hi[D];           // bounding box of its points
     uint32_t begin, end;      // its points: tree positions [begin, end)
     uint32_t left = kNone, right = kNone;
+    uint32_t alive = 0;       // its points not erased (read with the box by nearest searches)
     bool leaf() const { return left == kNone; }
   };
 
@@ -64,16 +65,37 @@ class KdTree {
   }
 
   // Deletion, for greedy constructions. alive(): points not erased.
-  size_t alive() const { return nodes_.empty() ? 0 : count_[0]; }
+  size_t alive() const { return nodes_.empty() ? 0 : nodes_[0].alive; }
   // Removes input point i from nearest_alive's view. O(log n).
   void erase(uint32_t i);
   // Input index of the nearest point not erased (of equally near ones, the lowest
   // index), or kNone when none is left. Typically O(log n); empty subtrees are skipped.
-  uint32_t nearest_alive(const Point& q) const;
+  uint32_t nearest_alive(const Point& q) const { return id_or_none(nearest_position(q)); }
+  // The same point, erased: one step of a greedy nearest-neighbour walk.
+  uint32_t take_nearest(const Point& q) {
+    const uint32_t pos = nearest_position(q);
+    if (pos == kNone) return kNone;
+    erase_position(pos);
+    return id_[pos];
+  }
 
  private:
   uint32_t build(uint32_t begin, uint32_t end, uint32_t parent, const std::vector<Point>& in,
                  const std::array<double, D>& w);
+
+  // nth_element of id_[b, e) at mid by coordinate `dim`, with the dimension a constant
+  // in each comparator (a runtime index costs a third more build time).
+  template <int... K>
+  void median_split(uint32_t b, uint32_t mid, uint32_t e, int dim, const Point* in, std::integer_sequence<int, K...>) {
+    auto by = [&](auto k) {
+      std::nth_element(id_.begin() + b, id_.begin() + mid, id_.begin() + e,
+                       [in](uint32_t i, uint32_t j) { return in[i][decltype(k)::value] < in[j][decltype(k)::value]; });
+    };
+    ((dim == K ? by(std::integral_constant<int, K>{}) : void()), ...);
+  }
+  uint32_t nearest_position(const Point& q) const;
+  void erase_position(uint32_t pos);
+  uint32_t id_or_none(uint32_t pos) const { return pos == kNone ? kNone : id_[pos]; }
 
   std::vector<Point> pts_;       // tree order
   std::vector<uint32_t> id_;     // tree position -> input index
@@ -81,7 +103,6 @@ class KdTree {
   std::vector<Node> nodes_;
   std::vector<uint32_t> parent_;   // per node (kNone for the root); kept out of Node, which searches read
   std::vector<uint32_t> leaf_of_;  // tree position -> its leaf
-  std::vector<uint32_t> count_;    // per node: points not erased
   std::vector<uint8_t> dead_;      // by tree position
 };
 
@@ -89,25 +110,33 @@ template <int D, class T>
 template <class Coord>
 KdTree<D, T>::KdTree(size_t n, Coord&& coord, const std::array<double, D>& split_weight) {
   const uint32_t m = static_cast<uint32_t>(n);
-  // Build on a copy in input order (direct, branch-free reads), then store in tree order.
-  std::vector<Point> in(m);
+  // Build on the points in input order (direct reads), then put them in tree order in
+  // place: no second copy of the points to allocate and touch.
+  pts_.resize(m);
   for (uint32_t i = 0; i < m; ++i)
-    for (int d = 0; d < D; ++d) in[i][d] = coord(i, d);
+    for (int d = 0; d < D; ++d) pts_[i][d] = coord(i, d);
   id_.resize(m);
   std::iota(id_.begin(), id_.end(), 0u);
   leaf_of_.assign(m, kNone);
   nodes_.reserve(2 * n / kLeafSize + 2);
   parent_.reserve(2 * n / kLeafSize + 2);
-  if (m > 0) build(0, m, kNone, in, split_weight);
-  pts_.resize(m);
+  if (m > 0) build(0, m, kNone, pts_, split_weight);
   pos_.resize(m);
-  for (uint32_t k = 0; k < m; ++k) {
-    pts_[k] = in[id_[k]];
-    pos_[id_[k]] = k;
+  for (uint32_t k = 0; k < m; ++k) pos_[id_[k]] = k;
+  // pts_[k] = old pts_[id_[k]], following each cycle of the permutation once.
+  dead_.assign(m, 0);  // here: "already placed"
+  for (uint32_t start = 0; start < m; ++start) {
+    if (dead_[start]) continue;
+    const Point first = pts_[start];
+    uint32_t k = start;
+    for (uint32_t from = id_[k]; from != start; k = from, from = id_[k]) {
+      pts_[k] = pts_[from];
+      dead_[k] = 1;
+    }
+    pts_[k] = first;
+    dead_[k] = 1;
   }
-  count_.resize(nodes_.size());
-  for (size_t i = 0; i < nodes_.size(); ++i) count_[i] = nodes_[i].end - nodes_[i].begin;
-  dead_.assign(m, 0);
+  std::fill(dead_.begin(), dead_.end(), uint8_t{0});
 }
 
 template <int D, class T>
@@ -117,7 +146,7 @@ uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, uint32_t parent, const std:
   nodes_.push_back(Node{});
   parent_.push_back(parent);
   Node nd{};
-  nd.begin = b, nd.end = e;
+  nd.begin = b, nd.end = e, nd.alive = e - b;
   for (int k = 0; k < D; ++k) nd.lo[k] = std::numeric_limits<T>::max(), nd.hi[k] = std::numeric_limits<T>::lowest();
   for (uint32_t i = b; i < e; ++i) {
     const Point& p = in[id_[i]];
@@ -131,8 +160,7 @@ uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, uint32_t parent, const std:
       if (ext > widest) widest = ext, dim = k;
     }
     const uint32_t mid = b + (e - b) / 2;
-    std::nth_element(id_.begin() + b, id_.begin() + mid, id_.begin() + e,
-                     [&](uint32_t i, uint32_t j) { return in[i][dim] < in[j][dim]; });
+    median_split(b, mid, e, dim, in.data(), std::make_integer_sequence<int, D>{});
     nd.left = build(b, mid, me, in, w);
     nd.right = build(mid, e, me, in, w);
   } else {
@@ -144,15 +172,20 @@ uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, uint32_t parent, const std:
 
 template <int D, class T>
 void KdTree<D, T>::erase(uint32_t i) {
-  const uint32_t p = pos_[i];
-  if (dead_[p]) return;
-  dead_[p] = 1;
-  for (uint32_t n = leaf_of_[p]; n != kNone; n = parent_[n]) --count_[n];
+  erase_position(pos_[i]);
 }
 
 template <int D, class T>
-uint32_t KdTree<D, T>::nearest_alive(const Point& q) const {
-  uint32_t best = kNone;
+void KdTree<D, T>::erase_position(uint32_t p) {
+  if (dead_[p]) return;
+  dead_[p] = 1;
+  for (uint32_t n = leaf_of_[p]; n != kNone; n = parent_[n]) --nodes_[n].alive;
+}
+
+// Returns the tree position; ties go to the lower input index.
+template <int D, class T>
+uint32_t KdTree<D, T>::nearest_position(const Point& q) const {
+  uint32_t best = kNone, best_id = kNone;
   if (alive() == 0) return best;
   double best_d2 = std::numeric_limits<double>::infinity();
   uint32_t stack[128];  // depth is log2(n / kLeafSize) + 1, far below this
@@ -161,12 +194,12 @@ uint32_t KdTree<D, T>::nearest_alive(const Point& q) const {
   while (sp > 0) {
     const uint32_t ni = stack[--sp];
     const Node& n = nodes_[ni];
-    if (count_[ni] == 0 || box_dist2(n, q) >= best_d2) continue;
+    if (n.alive == 0 || box_dist2(n, q) >= best_d2) continue;
     if (n.leaf()) {
       for (uint32_t k = n.begin; k < n.end; ++k) {
         if (dead_[k]) continue;
         const double d2 = dist2(pts_[k], q);
-        if (d2 < best_d2 || (d2 == best_d2 && id_[k] < best)) best_d2 = d2, best = id_[k];
+        if (d2 < best_d2 || (d2 == best_d2 && id_[k] < best_id)) best_d2 = d2, best = k, best_id = id_[k];
       }
       continue;
     }
