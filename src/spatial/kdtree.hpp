@@ -80,16 +80,22 @@ class KdTree {
   }
 
  private:
-  uint32_t build(uint32_t begin, uint32_t end, uint32_t parent, const std::vector<Point>& in,
+  struct Item {
+    Point p;
+    uint32_t id;
+  };
+  uint32_t build(uint32_t begin, uint32_t end, uint32_t parent, std::vector<Item>& items,
                  const std::array<double, D>& w);
 
-  // nth_element of id_[b, e) at mid by coordinate `dim`, with the dimension a constant
-  // in each comparator (a runtime index costs a third more build time).
+  // nth_element of items[b, e) at mid by coordinate `dim`, the dimension a constant in
+  // each comparator.
   template <int... K>
-  void median_split(uint32_t b, uint32_t mid, uint32_t e, int dim, const Point* in, std::integer_sequence<int, K...>) {
+  static void median_split(std::vector<Item>& items, uint32_t b, uint32_t mid, uint32_t e, int dim,
+                           std::integer_sequence<int, K...>) {
     auto by = [&](auto k) {
-      std::nth_element(id_.begin() + b, id_.begin() + mid, id_.begin() + e,
-                       [in](uint32_t i, uint32_t j) { return in[i][decltype(k)::value] < in[j][decltype(k)::value]; });
+      std::nth_element(items.begin() + b, items.begin() + mid, items.begin() + e, [](const Item& x, const Item& y) {
+        return x.p[decltype(k)::value] < y.p[decltype(k)::value];
+      });
     };
     ((dim == K ? by(std::integral_constant<int, K>{}) : void()), ...);
   }
@@ -110,37 +116,30 @@ template <int D, class T>
 template <class Coord>
 KdTree<D, T>::KdTree(size_t n, Coord&& coord, const std::array<double, D>& split_weight) {
   const uint32_t m = static_cast<uint32_t>(n);
-  // Build on the points in input order (direct reads), then put them in tree order in
-  // place: no second copy of the points to allocate and touch.
-  pts_.resize(m);
-  for (uint32_t i = 0; i < m; ++i)
-    for (int d = 0; d < D; ++d) pts_[i][d] = coord(i, d);
-  id_.resize(m);
-  std::iota(id_.begin(), id_.end(), 0u);
+  // Built on (point, index) items, so box scans and comparisons read contiguous memory;
+  // nth_element moves items exactly as it would move indices, and leaves them in tree order.
+  std::vector<Item> items(m);
+  for (uint32_t i = 0; i < m; ++i) {
+    for (int d = 0; d < D; ++d) items[i].p[d] = coord(i, d);
+    items[i].id = i;
+  }
   leaf_of_.assign(m, kNone);
   nodes_.reserve(2 * n / kLeafSize + 2);
   parent_.reserve(2 * n / kLeafSize + 2);
-  if (m > 0) build(0, m, kNone, pts_, split_weight);
+  if (m > 0) build(0, m, kNone, items, split_weight);
+  pts_.resize(m);
+  id_.resize(m);
   pos_.resize(m);
-  for (uint32_t k = 0; k < m; ++k) pos_[id_[k]] = k;
-  // pts_[k] = old pts_[id_[k]], following each cycle of the permutation once.
-  dead_.assign(m, 0);  // here: "already placed"
-  for (uint32_t start = 0; start < m; ++start) {
-    if (dead_[start]) continue;
-    const Point first = pts_[start];
-    uint32_t k = start;
-    for (uint32_t from = id_[k]; from != start; k = from, from = id_[k]) {
-      pts_[k] = pts_[from];
-      dead_[k] = 1;
-    }
-    pts_[k] = first;
-    dead_[k] = 1;
+  for (uint32_t k = 0; k < m; ++k) {
+    pts_[k] = items[k].p;
+    id_[k] = items[k].id;
+    pos_[id_[k]] = k;
   }
-  std::fill(dead_.begin(), dead_.end(), uint8_t{0});
+  dead_.assign(m, 0);
 }
 
 template <int D, class T>
-uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, uint32_t parent, const std::vector<Point>& in,
+uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, uint32_t parent, std::vector<Item>& items,
                              const std::array<double, D>& w) {
   const uint32_t me = static_cast<uint32_t>(nodes_.size());
   nodes_.push_back(Node{});
@@ -149,7 +148,7 @@ uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, uint32_t parent, const std:
   nd.begin = b, nd.end = e, nd.alive = e - b;
   for (int k = 0; k < D; ++k) nd.lo[k] = std::numeric_limits<T>::max(), nd.hi[k] = std::numeric_limits<T>::lowest();
   for (uint32_t i = b; i < e; ++i) {
-    const Point& p = in[id_[i]];
+    const Point& p = items[i].p;
     for (int k = 0; k < D; ++k) nd.lo[k] = std::min(nd.lo[k], p[k]), nd.hi[k] = std::max(nd.hi[k], p[k]);
   }
   if (e - b > kLeafSize) {
@@ -160,9 +159,9 @@ uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, uint32_t parent, const std:
       if (ext > widest) widest = ext, dim = k;
     }
     const uint32_t mid = b + (e - b) / 2;
-    median_split(b, mid, e, dim, in.data(), std::make_integer_sequence<int, D>{});
-    nd.left = build(b, mid, me, in, w);
-    nd.right = build(mid, e, me, in, w);
+    median_split(items, b, mid, e, dim, std::make_integer_sequence<int, D>{});
+    nd.left = build(b, mid, me, items, w);
+    nd.right = build(mid, e, me, items, w);
   } else {
     for (uint32_t i = b; i < e; ++i) leaf_of_[i] = me;
   }
