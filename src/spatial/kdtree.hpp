@@ -11,7 +11,6 @@
 #include <array>
 #include <cstdint>
 #include <limits>
-#include <numeric>
 #include <utility>
 #include <vector>
 
@@ -66,12 +65,14 @@ class KdTree {
 
   // Deletion, for greedy constructions. alive(): points not erased.
   size_t alive() const { return nodes_.empty() ? 0 : nodes_[0].alive; }
-  // Removes input point i from nearest_alive's view. O(log n).
+  // Removes input point i from the nearest searches. O(log n).
   void erase(uint32_t i);
-  // Input index of the nearest point not erased (of equally near ones, the lowest
-  // index), or kNone when none is left. Typically O(log n); empty subtrees are skipped.
-  uint32_t nearest_alive(const Point& q) const { return id_or_none(nearest_position(q)); }
-  // The same point, erased: one step of a greedy nearest-neighbour walk.
+  // Input index of the nearest point not erased, which is erased: one step of a greedy
+  // nearest-neighbour walk; kNone when none is left. Of equally near points it returns
+  // the lowest index among those it reads: a box exactly as far as the best so far is
+  // not opened, so the answer is deterministic but not always the lowest index of all
+  // (the planner's plans depend on exactly this). Typically O(log n); empty subtrees
+  // are skipped.
   uint32_t take_nearest(const Point& q) {
     const uint32_t pos = nearest_position(q);
     if (pos == kNone) return kNone;
@@ -101,7 +102,6 @@ class KdTree {
   }
   uint32_t nearest_position(const Point& q) const;
   void erase_position(uint32_t pos);
-  uint32_t id_or_none(uint32_t pos) const { return pos == kNone ? kNone : id_[pos]; }
 
   std::vector<Point> pts_;       // tree order
   std::vector<uint32_t> id_;     // tree position -> input index
