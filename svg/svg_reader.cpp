@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "util/error.hpp"
+#include "util/units.hpp"
 
 namespace stipplot {
 
@@ -100,14 +101,12 @@ class Reader {
   }
 
   // "12.5", "12.5mm", "1in"... in units where 1 mm = mm_unit. False on anything else.
+  // The number and unit are read by the one length grammar (util/units.hpp); the units
+  // are CSS's, where a bare number is a px of 1/96 in.
   static bool parse_length(const char* text, double mm_unit, double& out) {
-    const char* p = text;
-    while (std::isspace(static_cast<unsigned char>(*p))) ++p;
-    char* end = nullptr;
-    double v = std::strtod(p, &end);
-    if (end == p || !std::isfinite(v)) return false;
-    std::string unit(end);
-    while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit.back()))) unit.pop_back();
+    double v = 0;
+    std::string unit;
+    if (!split_number_unit(text, v, unit) || !std::isfinite(v)) return false;
     double px_per_unit;
     if (unit.empty() || unit == "px") px_per_unit = 1;
     else if (unit == "mm") px_per_unit = 1 / kMmPerPx;
