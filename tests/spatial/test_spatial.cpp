@@ -11,6 +11,7 @@
 #include "spatial/kdtree.hpp"
 #include "spatial/knn.hpp"
 #include "spatial/mst.hpp"
+#include "test_util.hpp"
 #include "util/rng.hpp"
 
 using namespace stipplot;
@@ -105,17 +106,8 @@ TEST_CASE("Euclidean MST equals Prim's weight and spans the points", "[spatial][
       REQUIRE(edges.size() == (n < 2 ? 0 : n - 1));
       if (n < 2) continue;
       CHECK(spatial::total_cost(edges) == Approx(prim_weight(p)).epsilon(1e-12));
-      std::vector<uint32_t> root(n);
-      std::iota(root.begin(), root.end(), 0u);
-      auto find = [&](uint32_t x) {
-        while (root[x] != x) x = root[x] = root[root[x]];
-        return x;
-      };
-      for (const auto& e : edges) {
-        CHECK(e.cost == Approx(std::sqrt(d2(p[e.a], p[e.b]))));
-        REQUIRE(find(e.a) != find(e.b));  // no cycle
-        root[find(e.a)] = find(e.b);
-      }
+      REQUIRE(test::spans(edges, n));
+      for (const auto& e : edges) CHECK(e.cost == Approx(std::sqrt(d2(p[e.a], p[e.b]))));
       CHECK(st.rounds >= 1);
     }
   }

@@ -21,28 +21,11 @@ using namespace stipplot::tree;
 
 namespace {
 
-bool spans(const std::vector<Edge>& edges, size_t n) {
-  if (n == 0) return edges.empty();
-  if (edges.size() != n - 1) return false;
-  std::vector<uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (const Edge& e : edges) {
-    const uint32_t a = find(e.a), b = find(e.b);
-    if (a == b) return false;
-    parent[a] = b;
-  }
-  return true;
-}
-
 void require_same_weight(const PointSet& pts, const CostParams& c) {
   const auto ref = mst_prim_reference(pts, c);
   const auto fast = mst_exact(pts, c);
-  REQUIRE(spans(ref, pts.size()));
-  REQUIRE(spans(fast, pts.size()));
+  REQUIRE(test::spans(ref, pts.size()));
+  REQUIRE(test::spans(fast, pts.size()));
   const double a = total_cost(ref), b = total_cost(fast);
   INFO("n=" << pts.size() << " cost=" << to_string(c.kind) << " alpha=" << c.alpha << " h=" << c.h);
   REQUIRE(b == Approx(a).epsilon(1e-12).margin(1e-9));
@@ -143,7 +126,7 @@ TEST_CASE("fast MST equals Prim's weight on stipples of the sample images, every
       INFO(name << " " << v << " points=" << fast.points.size());
       REQUIRE(fast.points.size() == ref.points.size());
       REQUIRE(fast.points.size() > 100);
-      REQUIRE(spans(fast.layers[0].edges, fast.points.size()));
+      REQUIRE(test::spans(fast.layers[0].edges, fast.points.size()));
       REQUIRE(total_cost(fast.layers[0].edges) == Approx(total_cost(ref.layers[0].edges)).epsilon(1e-12));
     }
   }
@@ -377,7 +360,7 @@ TEST_CASE("tiny images: one point, no segments, terrain still the image size", "
       p.variant = parse_variant(v);
       const TreeResult r = tree_pixels(img, p);
       REQUIRE(r.points.size() >= 1);
-      for (const auto& l : r.layers) REQUIRE(spans(l.edges, r.points.size()));
+      for (const auto& l : r.layers) REQUIRE(test::spans(l.edges, r.points.size()));
       const Image land = terrain(r, TerrainParams{});
       REQUIRE(land.width == w);
       REQUIRE(land.height == 1);
