@@ -85,8 +85,9 @@ class KdTree {
     Point p;
     uint32_t id;
   };
-  uint32_t build(uint32_t begin, uint32_t end, uint32_t parent, std::vector<Item>& items,
-                 const std::array<double, D>& w);
+  uint32_t build(uint32_t begin, uint32_t end, std::vector<Item>& items, const std::array<double, D>& w);
+  // The bookkeeping deletion needs, made on the first erase (MSTs never erase). O(n).
+  void prepare_erase();
 
   // nth_element of items[b, e) at mid by coordinate `dim`, the dimension a constant in
   // each comparator.
@@ -105,8 +106,9 @@ class KdTree {
 
   std::vector<Point> pts_;       // tree order
   std::vector<uint32_t> id_;     // tree position -> input index
-  std::vector<uint32_t> pos_;    // input index -> tree position
   std::vector<Node> nodes_;
+  // Made by prepare_erase:
+  std::vector<uint32_t> pos_;      // input index -> tree position
   std::vector<uint32_t> parent_;   // per node (kNone for the root); kept out of Node, which searches read
   std::vector<uint32_t> leaf_of_;  // tree position -> its leaf
   std::vector<uint8_t> dead_;      // by tree position
@@ -123,27 +125,38 @@ KdTree<D, T>::KdTree(size_t n, Coord&& coord, const std::array<double, D>& split
     for (int d = 0; d < D; ++d) items[i].p[d] = coord(i, d);
     items[i].id = i;
   }
-  leaf_of_.assign(m, kNone);
   nodes_.reserve(2 * n / kLeafSize + 2);
-  parent_.reserve(2 * n / kLeafSize + 2);
-  if (m > 0) build(0, m, kNone, items, split_weight);
+  if (m > 0) build(0, m, items, split_weight);
   pts_.resize(m);
   id_.resize(m);
-  pos_.resize(m);
   for (uint32_t k = 0; k < m; ++k) {
     pts_[k] = items[k].p;
     id_[k] = items[k].id;
-    pos_[id_[k]] = k;
   }
-  dead_.assign(m, 0);
 }
 
 template <int D, class T>
-uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, uint32_t parent, std::vector<Item>& items,
-                             const std::array<double, D>& w) {
+void KdTree<D, T>::prepare_erase() {
+  const size_t m = pts_.size();
+  dead_.assign(m, 0);
+  pos_.resize(m);
+  for (uint32_t k = 0; k < m; ++k) pos_[id_[k]] = k;
+  parent_.assign(nodes_.size(), kNone);
+  leaf_of_.assign(m, kNone);
+  for (uint32_t i = 0; i < nodes_.size(); ++i) {
+    const Node& n = nodes_[i];
+    if (n.leaf()) {
+      for (uint32_t k = n.begin; k < n.end; ++k) leaf_of_[k] = i;
+    } else {
+      parent_[n.left] = parent_[n.right] = i;
+    }
+  }
+}
+
+template <int D, class T>
+uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, std::vector<Item>& items, const std::array<double, D>& w) {
   const uint32_t me = static_cast<uint32_t>(nodes_.size());
   nodes_.push_back(Node{});
-  parent_.push_back(parent);
   Node nd{};
   nd.begin = b, nd.end = e, nd.alive = e - b;
   for (int k = 0; k < D; ++k) nd.lo[k] = std::numeric_limits<T>::max(), nd.hi[k] = std::numeric_limits<T>::lowest();
@@ -160,10 +173,8 @@ uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, uint32_t parent, std::vecto
     }
     const uint32_t mid = b + (e - b) / 2;
     median_split(items, b, mid, e, dim, std::make_integer_sequence<int, D>{});
-    nd.left = build(b, mid, me, items, w);
-    nd.right = build(mid, e, me, items, w);
-  } else {
-    for (uint32_t i = b; i < e; ++i) leaf_of_[i] = me;
+    nd.left = build(b, mid, items, w);
+    nd.right = build(mid, e, items, w);
   }
   nodes_[me] = nd;
   return me;
@@ -171,11 +182,13 @@ uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, uint32_t parent, std::vecto
 
 template <int D, class T>
 void KdTree<D, T>::erase(uint32_t i) {
+  if (dead_.empty()) prepare_erase();
   erase_position(pos_[i]);
 }
 
 template <int D, class T>
 void KdTree<D, T>::erase_position(uint32_t p) {
+  if (dead_.empty()) prepare_erase();
   if (dead_[p]) return;
   dead_[p] = 1;
   for (uint32_t n = leaf_of_[p]; n != kNone; n = parent_[n]) --nodes_[n].alive;
@@ -186,6 +199,7 @@ template <int D, class T>
 uint32_t KdTree<D, T>::nearest_position(const Point& q) const {
   uint32_t best = kNone, best_id = kNone;
   if (alive() == 0) return best;
+  const uint8_t* dead = dead_.empty() ? nullptr : dead_.data();
   double best_d2 = std::numeric_limits<double>::infinity();
   uint32_t stack[128];  // depth is log2(n / kLeafSize) + 1, far below this
   int sp = 0;
@@ -196,7 +210,7 @@ uint32_t KdTree<D, T>::nearest_position(const Point& q) const {
     if (n.alive == 0 || box_dist2(n, q) >= best_d2) continue;
     if (n.leaf()) {
       for (uint32_t k = n.begin; k < n.end; ++k) {
-        if (dead_[k]) continue;
+        if (dead && dead[k]) continue;
         const double d2 = dist2(pts_[k], q);
         if (d2 < best_d2 || (d2 == best_d2 && id_[k] < best_id)) best_d2 = d2, best = k, best_id = id_[k];
       }
