@@ -1,4 +1,4 @@
-// Pointillism (seed 004): a 12-megapixel photo to SVG (issue target: <= 3 s), with the
+// Pointillism (seed 004): a 12-megapixel photo to SVG (target: <= 3 s), with the
 // baselines its speed rests on, run in the same process:
 //  - equal-disc PDS on a blocked-pixel map vs brute force (every placed disc checked)
 //    and vs the stippler's uniform grid of dots (pds::DotGrid);

@@ -6,6 +6,7 @@
 #include <memory>
 
 #include "svg/svg_writer.hpp"
+#include "svg/svg_document.hpp"
 #include "svg/xml_output.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
@@ -16,59 +17,23 @@ namespace {
 
 void write(const Plan& plan, tinyxml2::XMLPrinter& p, const PlannedSvgOptions& opt) {
   auto num = [&](double v) { return format_number(v, opt.decimals); };
-  const Page& page = plan.page;
-  p.PushHeader(false, true);
-  p.OpenElement("svg");
-  p.PushAttribute("xmlns", "http://www.w3.org/2000/svg");
-  p.PushAttribute("xmlns:inkscape", "http://www.inkscape.org/namespaces/inkscape");
-  p.PushAttribute("version", "1.1");
-  p.PushAttribute("width", (num(page.width_mm) + "mm").c_str());
-  p.PushAttribute("height", (num(page.height_mm) + "mm").c_str());
-  p.PushAttribute("viewBox", ("0 0 " + num(page.width_mm) + " " + num(page.height_mm)).c_str());
-  p.OpenElement("title");
-  p.PushText("stipplot plan (strokes in plot order)");
-  p.CloseElement();
-  if (opt.paper_background) {
-    p.OpenElement("g");
-    p.PushAttribute("id", "paper");
-    p.PushAttribute("inkscape:groupmode", "layer");
-    p.PushAttribute("inkscape:label", "% paper (not plotted)");
-    p.OpenElement("rect");
-    p.PushAttribute("x", "0");
-    p.PushAttribute("y", "0");
-    p.PushAttribute("width", num(page.width_mm).c_str());
-    p.PushAttribute("height", num(page.height_mm).c_str());
-    p.PushAttribute("fill", page.paper.hex().c_str());
-    p.PushAttribute("stroke", "none");
-    p.CloseElement();
-    p.CloseElement();
-  }
+  SvgFrame frame;
+  frame.page = plan.page;
+  frame.title = "stipplot plan (strokes in plot order)";
+  frame.paper_background = opt.paper_background;
+  frame.decimals = opt.decimals;
+  open_svg_document(p, frame);
 
   std::string d;
   int index = 0;
   for (const auto& layer : plan.layers) {
     ++index;
     const std::string colour = layer.pen.color.hex();
-    p.OpenElement("g");
-    p.PushAttribute("id", ("layer" + std::to_string(index)).c_str());
-    p.PushAttribute("inkscape:groupmode", "layer");
-    p.PushAttribute("inkscape:label", (std::to_string(index) + " " + layer.pen.name).c_str());
-    p.PushAttribute("data-pen-width", num(layer.pen.width_mm).c_str());
-    p.PushAttribute("stroke", colour.c_str());
-    p.PushAttribute("stroke-width", num(layer.pen.width_mm).c_str());
-    p.PushAttribute("stroke-linecap", "round");
-    p.PushAttribute("stroke-linejoin", "round");
-    p.PushAttribute("fill", "none");
+    open_pen_layer(p, index, layer.pen, opt.decimals);
     for (const auto& s : layer.strokes) {
       if (s.pts.empty()) continue;
       if (s.pts.size() == 1) {
-        p.OpenElement("circle");
-        p.PushAttribute("cx", num(s.pts[0].x).c_str());
-        p.PushAttribute("cy", num(s.pts[0].y).c_str());
-        p.PushAttribute("r", num(layer.pen.width_mm / 2).c_str());
-        p.PushAttribute("fill", colour.c_str());
-        p.PushAttribute("stroke", "none");
-        p.CloseElement(true);
+        push_filled_circle(p, s.pts[0], layer.pen.width_mm / 2, colour, opt.decimals);
         continue;
       }
       d.clear();

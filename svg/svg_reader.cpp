@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "util/error.hpp"
+#include "util/units.hpp"
 
 namespace stipplot {
 
@@ -100,14 +101,12 @@ class Reader {
   }
 
   // "12.5", "12.5mm", "1in"... in units where 1 mm = mm_unit. False on anything else.
+  // The number and unit are read by the one length grammar (util/units.hpp); the units
+  // are CSS's, where a bare number is a px of 1/96 in.
   static bool parse_length(const char* text, double mm_unit, double& out) {
-    const char* p = text;
-    while (std::isspace(static_cast<unsigned char>(*p))) ++p;
-    char* end = nullptr;
-    double v = std::strtod(p, &end);
-    if (end == p || !std::isfinite(v)) return false;
-    std::string unit(end);
-    while (!unit.empty() && std::isspace(static_cast<unsigned char>(unit.back()))) unit.pop_back();
+    double v = 0;
+    std::string unit;
+    if (!split_number_unit(text, v, unit) || !std::isfinite(v)) return false;
     double px_per_unit;
     if (unit.empty() || unit == "px") px_per_unit = 1;
     else if (unit == "mm") px_per_unit = 1 / kMmPerPx;
@@ -423,46 +422,57 @@ class Reader {
       move({length_attr(e, "x1", 0), length_attr(e, "y1", 0)}, ctm);
       line({length_attr(e, "x2", 0), length_attr(e, "y2", 0)}, ctm);
     } else if (std::strcmp(tag, "polyline") == 0 || std::strcmp(tag, "polygon") == 0) {
-      const char* pts = e->Attribute("points");
-      if (pts) {
-        NumberScanner sc(pts);
-        std::vector<double> v;
-        double x;
-        while (sc.number(x)) v.push_back(x);
-        if (!sc.at_end()) fail(e, std::string("points: bad number at '") + sc.rest() + "'");
-        if (v.size() % 2) fail(e, "points: odd number of coordinates");
-        for (size_t i = 0; i + 1 < v.size(); i += 2) {
-          if (i == 0) move({v[0], v[1]}, ctm);
-          else line({v[i], v[i + 1]}, ctm);
-        }
-        if (tag[4] == 'g' && v.size() >= 4) close();  // polygon
-      }
+      polyline(e, ctm, tag[4] == 'g');
     } else if (std::strcmp(tag, "rect") == 0) {
       rect(e, ctm);
     } else if (std::strcmp(tag, "circle") == 0 || std::strcmp(tag, "ellipse") == 0) {
-      bool is_circle = tag[0] == 'c';
-      double cx = length_attr(e, "cx", 0), cy = length_attr(e, "cy", 0);
-      double rx, ry;
-      if (is_circle) {
-        rx = ry = length_attr(e, "r", 0);
-      } else {
-        rx = length_attr(e, "rx", -1);
-        ry = length_attr(e, "ry", -1);
-        if (rx < 0) rx = ry;  // SVG 2 "auto"
-        if (ry < 0) ry = rx;
-      }
-      if (rx < 0 || ry < 0) fail(e, "negative radius");
-      if (rx <= 0 || ry <= 0) return;  // not rendered
-      if (rx == ry && ctm.is_similarity()) {
-        round_shape(e, ctm.apply({cx, cy}), rx * std::sqrt(std::fabs(ctm.det())), style, layer);
-        return;
-      }
-      ellipse({cx, cy}, rx, ry, ctm);
+      if (circle_or_ellipse(e, tag[0] == 'c', ctm, style, layer)) return;
     } else {
       return;  // unknown elements (use, text...) draw nothing here
     }
     flush_current();
     if (!shape_.empty()) add_lines(style, layer);
+  }
+
+  // <polyline points> / <polygon points> (closed).
+  void polyline(const tinyxml2::XMLElement* e, const Affine& ctm, bool polygon) {
+    const char* pts = e->Attribute("points");
+    if (!pts) return;
+    NumberScanner sc(pts);
+    std::vector<double> v;
+    double x;
+    while (sc.number(x)) v.push_back(x);
+    if (!sc.at_end()) fail(e, std::string("points: bad number at '") + sc.rest() + "'");
+    if (v.size() % 2) fail(e, "points: odd number of coordinates");
+    for (size_t i = 0; i + 1 < v.size(); i += 2) {
+      if (i == 0) move({v[0], v[1]}, ctm);
+      else line({v[i], v[i + 1]}, ctm);
+    }
+    if (polygon && v.size() >= 4) close();
+  }
+
+  // <circle> / <ellipse>: a round shape of its own when the transform keeps it a circle
+  // (then true: nothing left to add), else its outline into the current shape.
+  bool circle_or_ellipse(const tinyxml2::XMLElement* e, bool is_circle, const Affine& ctm, const Style& style,
+                         const std::string* layer) {
+    double cx = length_attr(e, "cx", 0), cy = length_attr(e, "cy", 0);
+    double rx, ry;
+    if (is_circle) {
+      rx = ry = length_attr(e, "r", 0);
+    } else {
+      rx = length_attr(e, "rx", -1);
+      ry = length_attr(e, "ry", -1);
+      if (rx < 0) rx = ry;  // SVG 2 "auto"
+      if (ry < 0) ry = rx;
+    }
+    if (rx < 0 || ry < 0) fail(e, "negative radius");
+    if (rx <= 0 || ry <= 0) return true;  // not rendered
+    if (rx == ry && ctm.is_similarity()) {
+      round_shape(e, ctm.apply({cx, cy}), rx * std::sqrt(std::fabs(ctm.det())), style, layer);
+      return true;
+    }
+    ellipse({cx, cy}, rx, ry, ctm);
+    return false;
   }
 
   // <use href="#id" x y>: the referenced element (a <symbol>'s children) drawn here.
@@ -618,6 +628,8 @@ class Reader {
     close();
   }
 
+  // The path data grammar as one loop over commands: every command reads and moves the
+  // same cursor (position, subpath start, last control point), so the switch stays whole.
   void path(const tinyxml2::XMLElement* e, const char* d, const Affine& ctm) {
     NumberScanner sc(d);
     Vec2 pos{0, 0}, start{0, 0}, ctrl{0, 0};

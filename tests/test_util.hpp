@@ -1,6 +1,7 @@
 #pragma once
 // Small helpers shared by the tests: temp dirs, running the CLI, synthetic images.
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -73,6 +74,26 @@ inline std::string read_file(const std::string& p) {
   std::stringstream ss;
   ss << f.rdbuf();
   return ss.str();
+}
+
+// True when `edges` (anything with .a and .b) are n - 1 edges joining n points without a
+// cycle: a spanning tree.
+template <class Edge>
+bool spans(const std::vector<Edge>& edges, size_t n) {
+  if (n == 0) return edges.empty();
+  if (edges.size() != n - 1) return false;
+  std::vector<uint32_t> parent(n);
+  for (uint32_t i = 0; i < n; ++i) parent[i] = i;
+  auto find = [&](uint32_t i) {
+    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  for (const Edge& e : edges) {
+    const uint32_t a = find(e.a), b = find(e.b);
+    if (a == b) return false;
+    parent[a] = b;
+  }
+  return true;
 }
 
 // Fig. 2-like: a dark spiral of several turns with thin straight lines from it, on

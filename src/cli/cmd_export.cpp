@@ -10,6 +10,7 @@
 #include "svg/svg_reader.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
+#include "util/units.hpp"
 
 namespace stipplot::cli {
 
@@ -18,10 +19,10 @@ struct ExportArgs {
   std::string input, output, preview;
   std::string profile = "grbl-servo";
   PlanArgs plan;
-  double tolerance = 0.05;
-  double pen_width = 0.3;
+  std::string tolerance = "0.05";
+  std::string pen_width = "0.3";
   bool show_travel = false;
-  bool json = false, quiet = false;
+  ReportArgs report;
 };
 }  // namespace
 
@@ -43,24 +44,25 @@ void register_export(CLI::App& app) {
       ->capture_default_str()->group("Output");
   cmd->add_flag("--show-travel", args->show_travel, "Planned SVG: add the pen-up travel as a hidden layer")->group("Output");
   cmd->add_option("--preview", args->preview, "Also write a preview PNG of the drawing as read")->group("Output");
-  cmd->add_flag("--json", args->json, "Print a one-line JSON summary instead of prose")->group("Output");
-  cmd->add_flag("-q,--quiet", args->quiet, "Print nothing on success")->group("Output");
-  cmd->add_option("--tolerance", args->tolerance, "Curve flattening tolerance in mm")->capture_default_str()->group("Input");
-  cmd->add_option("--pen-width", args->pen_width, "Pen width in mm where the SVG gives no stroke width")
+  add_report_options(cmd, args->report);
+  cmd->add_option("--tolerance", args->tolerance, "Curve flattening tolerance: mm (0.05, 0.05mm), cm, in or pt")->capture_default_str()->group("Input");
+  cmd->add_option("--pen-width", args->pen_width, "Pen width where the SVG gives no stroke width: mm (0.3, 0.3mm), cm, in or pt")
       ->capture_default_str()->group("Input");
   add_plan_options(cmd, args->plan);
   cmd->callback([args] {
     auto t0 = std::chrono::steady_clock::now();
     ExportArgs& a = *args;
-    require_range("--tolerance", a.tolerance, 1e-4, 10);
-    require_range("--pen-width", a.pen_width, 0.01, 20);
+    const double tolerance_mm = parse_paper_mm(a.tolerance, "--tolerance");
+    const double pen_width_mm = parse_paper_mm(a.pen_width, "--pen-width");
+    require_range("--tolerance", tolerance_mm, 1e-4, 10);
+    require_range("--pen-width", pen_width_mm, 0.01, 20);
     (void)output_kind(a.output);
     (void)a.plan.resolve();
     require_writable_dir(a.output);
-    if (!a.preview.empty()) require_writable_dir(a.preview);
+    if (!a.preview.empty()) require_png_path("--preview", a.preview);
     SvgReadOptions ro;
-    ro.tolerance_mm = a.tolerance;
-    ro.default_pen_width_mm = a.pen_width;
+    ro.tolerance_mm = tolerance_mm;
+    ro.default_pen_width_mm = pen_width_mm;
     Drawing d = read_svg(a.input, ro);
     if (d.primitive_count() == 0) throw UserError(a.input + ": nothing to plot (no visible shapes)");
     double read_s = seconds_since(t0);
@@ -76,19 +78,14 @@ void register_export(CLI::App& app) {
       s["preview"] = a.preview;
     }
     s["seconds"] = seconds_since(t0);
-    if (a.json) {
-      std::printf("%s\n", s.dump().c_str());
-    } else if (!a.quiet) {
-      const auto& total = s["plan"]["total"];
-      std::ostringstream h;
-      h.precision(1);
-      h << std::fixed << "wrote " << a.output << " for " << s["profile"].get<std::string>() << ": "
-        << d.layers.size() << (d.layers.size() == 1 ? " layer, " : " layers, ") << total.value("strokes", size_t{0})
-        << " strokes, pen down " << total.value("pen_down_mm", 0.0) / 1000 << " m, pen up "
-        << total.value("pen_up_mm", 0.0) / 1000 << " m, about " << total.value("seconds", 0.0) / 60
-        << " min to plot (" << s["seconds"].get<double>() << " s)";
-      std::printf("%s\n", h.str().c_str());
-    }
+    const auto& total = s["plan"]["total"];
+    std::ostringstream h;
+    h.precision(1);
+    h << std::fixed << "wrote " << a.output << " for " << s["profile"].get<std::string>() << ": "
+      << layers_phrase(d.layers.size()) << ", " << total.value("strokes", size_t{0}) << " strokes, pen down "
+      << total.value("pen_down_mm", 0.0) / 1000 << " m, pen up " << total.value("pen_up_mm", 0.0) / 1000
+      << " m, about " << total.value("seconds", 0.0) / 60 << " min to plot (" << s["seconds"].get<double>() << " s)";
+    a.report.print(s, h.str());
   });
 }
 

@@ -1,33 +1,46 @@
 // stipplot tree: dendritic drawings by anisotropic minimum spanning trees, and
 // terrain maps (seed 002).
-#include <filesystem>
 #include <memory>
-#include <sstream>
 
 #include "cli/commands.hpp"
-#include "cli/common.hpp"
+#include "cli/method_command.hpp"
 #include "methods/tree/tree.hpp"
-#include "preview/preview.hpp"
-#include "util/atomic_file.hpp"
-#include "util/error.hpp"
 
 namespace stipplot::cli {
 
 namespace {
 struct TreeArgs {
-  OutputArgs out;
-  PlacementArgs place;
   std::string distance = "sibd";
-  std::string terrain;
   tree::TreeParams p;
   tree::TerrainParams t;
 };
+
+nlohmann::json tree_summary(const tree::TreeResult& r, const tree::TreeParams& p) {
+  nlohmann::json s;
+  s["distance"] = p.variant.name;
+  s["points"] = r.points.size();
+  s["stipples"] = r.stipple_count;
+  s["edge_pixels"] = r.points.size() - r.stipple_count;
+  s["mst"] = p.reference_prim ? "prim-reference" : "boruvka-kdtree";
+  nlohmann::json trees = nlohmann::json::array();
+  for (const auto& l : r.layers)
+    trees.push_back({{"distance", tree::to_string(l.kind)},
+                     {"edges", l.edges.size()},
+                     {"total_cost", tree::total_cost(l.edges)},
+                     {"mean_abs_cos_gradient", l.mean_abs_cos},
+                     {"edges_measured", l.measured}});
+  s["trees"] = trees;
+  s["seconds_points"] = r.seconds_points;
+  s["seconds_edges"] = r.seconds_edges;
+  s["seconds_mst"] = r.seconds_mst;
+  return s;
+}
 }  // namespace
 
 void register_tree(CLI::App& app) {
   auto args = std::make_shared<TreeArgs>();
-  CLI::App* cmd = app.add_subcommand("tree", "Dendritic drawing: stipples joined by an anisotropic minimum spanning tree");
-  cmd->footer(
+  auto m = MethodCommand::add(
+      app, "tree", "Dendritic drawing: stipples joined by an anisotropic minimum spanning tree",
       "Distances: ed (Euclidean: lines in every direction), bd (bilateral: lines along iso-intensity\n"
       "contours), sibd (sign-inverted bilateral: lines down the intensity gradient), bd+sibd (both, two\n"
       "layers: tile-like). Cross variants ced, cbd, csibd, cbd+csibd add the major edges (mean shift +\n"
@@ -35,10 +48,9 @@ void register_tree(CLI::App& app) {
       "--terrain writes a terrain map: the tree as valleys in the image (or edge distance) as height,\n"
       "bump-map shaded, high ground red, low ground green, edges blue.\n"
       "Example: stipplot tree photo.jpg -o tree.svg --distance sibd --preview tree.png --terrain land.png");
-  add_output_options(cmd, args->out);
-  add_placement_options(cmd, args->place);
+  CLI::App* cmd = m->cli();
   cmd->add_option("-d,--distance", args->distance, "ed|bd|sibd|bd+sibd|ced|cbd|csibd|cbd+csibd")->capture_default_str();
-  cmd->add_option("--terrain", args->terrain, "Also write a terrain map PNG (image size)")->group("Output");
+  m->add_png_output("--terrain", "Also write a terrain map PNG (image size)", "terrain", "terrain");
   const char* g = "Tree";
   cmd->add_option("-a", args->p.a, "Stipple radius offset a (px): r = a + b*d/255")->capture_default_str()->group(g);
   cmd->add_option("-b", args->p.b, "Stipple radius slope b (px)")->capture_default_str()->group(g);
@@ -61,59 +73,24 @@ void register_tree(CLI::App& app) {
   cmd->add_option("--relief", args->t.relief, "Bump-mapping strength")->capture_default_str()->group(t);
   cmd->add_option("--light-azimuth", args->t.azimuth, "Light direction, degrees clockwise from up")->capture_default_str()->group(t);
   cmd->add_option("--light-elevation", args->t.elevation, "Light elevation, degrees")->capture_default_str()->group(t);
-  cmd->callback([args] {
-    auto t0 = std::chrono::steady_clock::now();
-    TreeArgs& a = *args;
-    a.p.variant = tree::parse_variant(a.distance);
-    a.p.validate();
-    a.t.validate();
-    Placement placement = a.place.resolve();
-    a.out.validate();
-    if (!a.terrain.empty()) {
-      std::string ext = std::filesystem::path(a.terrain).extension().string();
-      for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      if (ext != ".png") throw UserError("--terrain " + a.terrain + ": the terrain map is a PNG file");
-      require_writable_dir(a.terrain);
-    }
-    Image img = load_input(a.out);
-    tree::TreeResult r = tree::tree_pixels(img, a.p);
-    Drawing d = tree::place_tree(r, placement);
-    nlohmann::json s;
-    s["command"] = "tree";
-    s["distance"] = a.p.variant.name;
-    s["input"] = a.out.input;
-    s["image_px"] = {img.width, img.height};
-    s["points"] = r.points.size();
-    s["stipples"] = r.stipple_count;
-    s["edge_pixels"] = r.points.size() - r.stipple_count;
-    s["mst"] = a.p.reference_prim ? "prim-reference" : "boruvka-kdtree";
-    nlohmann::json trees = nlohmann::json::array();
-    for (const auto& l : r.layers)
-      trees.push_back({{"distance", tree::to_string(l.kind)},
-                       {"edges", l.edges.size()},
-                       {"total_cost", tree::total_cost(l.edges)},
-                       {"mean_abs_cos_gradient", l.mean_abs_cos},
-                       {"edges_measured", l.measured}});
-    s["trees"] = trees;
-    s["seconds_points"] = r.seconds_points;
-    s["seconds_edges"] = r.seconds_edges;
-    s["seconds_mst"] = r.seconds_mst;
-    write_outputs(d, a.out, s);
-    if (!a.terrain.empty()) {
-      write_png(tree::terrain(r, a.t), a.terrain);
-      s["terrain"] = a.terrain;
-    }
-    s["seconds"] = seconds_since(t0);
-    std::ostringstream hs;
-    hs << "wrote " << a.out.output << ": " << r.points.size() << " points, " << d.primitive_count() << " segments in "
-       << d.layers.size() << (d.layers.size() == 1 ? " layer" : " layers") << " (" << a.p.variant.name << ", "
-       << img.width << "x" << img.height << " px) in " << std::fixed;
-    hs.precision(2);
-    hs << s["seconds"].get<double>() << " s";
-    if (!a.out.preview.empty()) hs << "; preview " << a.out.preview;
-    if (!a.terrain.empty()) hs << "; terrain " << a.terrain;
-    report(a.out, s, hs.str());
-  });
+  m->define(
+      [args] {
+        args->p.variant = tree::parse_variant(args->distance);
+        args->p.validate();
+        args->t.validate();
+      },
+      [args](const MethodInput& in) {
+        const tree::TreeParams& p = args->p;
+        auto r = std::make_shared<tree::TreeResult>(tree::tree_pixels(in.image, p));
+        MethodResult out;
+        out.drawing = tree::place_tree(*r, in.placement);
+        out.summary = tree_summary(*r, p);
+        out.images["--terrain"] = [r, args] { return tree::terrain(*r, args->t); };
+        out.counts = std::to_string(r->points.size()) + " points, " + std::to_string(out.drawing.primitive_count()) +
+                     " segments in " + layers_phrase(out.drawing.layers.size()) + " (" + p.variant.name + ", " +
+                     pixel_size(in.image) + ")";
+        return out;
+      });
 }
 
 }  // namespace stipplot::cli

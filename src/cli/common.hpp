@@ -1,49 +1,49 @@
 #pragma once
-// Options shared by the method commands, so --page, --preview, --json ... mean the
-// same everywhere, and the one output path every method's Drawing goes through.
+// What the commands share: the page options (method commands and eval), the --json /
+// --quiet report, output kinds by extension, and planning a drawing into a device file
+// (method commands with -o x.gcode, export, plot).
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "geometry/drawing.hpp"
-#include "image/image.hpp"
 #include "cli/plan_options.hpp"
+#include "geometry/drawing.hpp"
 #include "methods/placement.hpp"
 
 namespace stipplot::cli {
 
+// --page, --margin, --landscape, --pen-width, --dot-size; lengths in the grammar of
+// util/units.hpp (bare numbers are mm; --dot-size also takes input pixels, "1.5px").
 struct PlacementArgs {
   std::string page = "A4";
-  double margin = 10;
+  std::string margin = "10";
   bool landscape = false;
-  double pen_width = 0.3;
+  std::string pen_width = "0.3";
   std::string dot_size = "0";
-  Placement resolve() const;  // throws UserError
+  Placement resolve() const;  // throws UserError naming the option
 };
 void add_placement_options(CLI::App* cmd, PlacementArgs& a);
 
-struct OutputArgs {
-  std::string input;
-  std::string output;
-  std::string profile = "grbl-servo";  // for .gcode/.hpgl outputs
-  PlanArgs plan;                       // for .gcode/.hpgl outputs
-  std::string preview;
-  double preview_dpi = 150;
+// --json: the summary as one JSON line; -q/--quiet: nothing on success; else a sentence.
+struct ReportArgs {
   bool json = false;
   bool quiet = false;
-  uint64_t max_pixels = 100'000'000;
-  // Checked before any work: output kinds known, directories writable.
-  void validate() const;
+  void print(const nlohmann::json& summary, const std::string& sentence) const;
 };
-// Adds IN (positional), -o, --profile, the planning options, --preview, --preview-dpi,
-// --json, --quiet, --max-pixels.
-void add_output_options(CLI::App* cmd, OutputArgs& a);
+void add_report_options(CLI::App* cmd, ReportArgs& a);
+
+// Case-insensitive: has_extension("A.PNG", ".png").
+bool has_extension(const std::string& path, const char* ext);
+// An extra output that must be a PNG in an existing directory; checked before any work.
+void require_png_path(const std::string& option, const std::string& path);
 
 // Output kinds by extension: a Drawing as SVG, or planned for a device as G-code/HPGL
 // (or, for export, the planned order as SVG).
 enum class OutputKind { svg, gcode, hpgl };
 OutputKind output_kind(const std::string& path, const std::string& option = "-o");
+// Checked before any work: a .gcode output needs a grbl profile, .hpgl an HPGL one.
+void check_profile_for(OutputKind kind, const std::string& path, const std::string& profile_name);
 
 // Plans the drawing with the profile's motion limits, writes G-code, HPGL or the planned
 // SVG (by the extension of `path`) atomically, and adds the profile, the plan's statistics
@@ -51,14 +51,8 @@ OutputKind output_kind(const std::string& path, const std::string& option = "-o"
 void write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
                           const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary);
 
-Image load_input(const OutputArgs& a);
-
-// Writes the drawing to -o (by extension) and the preview; fills `summary` with what
-// was written (layers, primitives, files). Every file is written atomically.
-void write_outputs(const Drawing& d, const OutputArgs& a, nlohmann::json& summary);
-
-// Prints the summary as one JSON line (--json) or a short human sentence.
-void report(const OutputArgs& a, const nlohmann::json& summary, const std::string& human);
+// "1 layer", "3 layers".
+std::string layers_phrase(size_t n);
 
 double seconds_since(std::chrono::steady_clock::time_point t0);
 

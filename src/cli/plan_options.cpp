@@ -1,16 +1,18 @@
 #include "cli/plan_options.hpp"
 
 #include "util/error.hpp"
+#include "util/units.hpp"
 
 namespace stipplot::cli {
 
 PlanOptions PlanArgs::resolve() const {
   PlanOptions o;
   require_range("--optimize-seconds", optimize_seconds, 0, 3600);
-  require_range("--join-tolerance", join_tolerance, 0, 10);
+  const double join_mm = parse_paper_mm(join_tolerance, "--join-tolerance");
+  require_range("--join-tolerance", join_mm, 0, 10);
   o.optimize_seconds = optimize_seconds;
   o.fill = plan::parse_fill_mode(fill);
-  o.join_tolerance_mm = join_tolerance;
+  o.join_tolerance_mm = join_mm;
   o.validate();
   return o;
 }
@@ -23,7 +25,7 @@ void add_plan_options(CLI::App* cmd, PlanArgs& a) {
   cmd->add_option("--fill", a.fill, "Filled circles and dots wider than the pen: spiral|hatch|none")
       ->capture_default_str()
       ->group("Planning");
-  cmd->add_option("--join-tolerance", a.join_tolerance, "Polyline ends closer than this (mm) are joined")
+  cmd->add_option("--join-tolerance", a.join_tolerance, "Polyline ends closer than this are joined: mm (0.05, 0.05mm), cm, in or pt")
       ->capture_default_str()
       ->group("Planning");
 }

@@ -11,7 +11,7 @@ namespace stipplot::cli {
 struct PlanArgs {
   double optimize_seconds = 2.0;
   std::string fill = "spiral";
-  double join_tolerance = 0.05;
+  std::string join_tolerance = "0.05";
   PlanOptions resolve() const;  // throws UserError naming the option
 };
 

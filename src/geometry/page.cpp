@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
-#include <regex>
 
 #include "util/error.hpp"
+#include "util/units.hpp"
 
 namespace stipplot {
 
@@ -22,18 +21,19 @@ PageSpec parse_page(const std::string& text) {
                                 {"tabloid", 279.4, 431.8}};
   for (const auto& n : named)
     if (t == n.name) return {n.w, n.h};
-  // WxH with an optional unit; parsed by hand so "0x100" is not read as hex.
-  static const std::regex custom(R"(^\s*([0-9]*\.?[0-9]+)\s*x\s*([0-9]*\.?[0-9]+)\s*(mm|cm|in)?\s*$)");
-  std::smatch m;
-  if (std::regex_match(t, m, custom)) {
-    double f = m[3] == "in" ? 25.4 : m[3] == "cm" ? 10 : 1;
-    double w = std::stod(m[1]) * f, h = std::stod(m[2]) * f;
+  // WxH with one unit for both sides (the shared length grammar; px has no size on paper).
+  if (const size_t x = t.find('x'); x != std::string::npos) {
+    double w = 0, h = 0;
+    std::string left_unit, unit;
+    if (!split_number_unit(std::string_view(t).substr(0, x), w, left_unit) || !left_unit.empty() ||
+        !split_number_unit(std::string_view(t).substr(x + 1), h, unit) || mm_per_unit(unit) == 0)
+      throw UserError("--page: cannot read '" + text + "' as WxH with a unit of mm, cm, in or pt");
+    w *= mm_per_unit(unit);
+    h *= mm_per_unit(unit);
     if (!(w > 0) || !(h > 0) || w > 100000 || h > 100000)
       throw UserError("--page: size must be positive and at most 100 m, got '" + text + "'");
     return {w, h};
   }
-  if (t.find('x') != std::string::npos)
-    throw UserError("--page: cannot read '" + text + "' as WxH with a unit of mm, cm or in");
   throw UserError("--page: unknown page '" + text + "' (use A5, A4, A3, A2, letter, legal, tabloid or WxHmm)");
 }
 

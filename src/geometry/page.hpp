@@ -10,7 +10,8 @@ struct PageSpec {
   double width_mm = 210, height_mm = 297;
 };
 
-// "A4", "A3", "A5", "letter", "legal", "tabloid", or "WxHmm" / "WxHin" / "WxH" (mm).
+// "A4", "A3", "A5", "letter", "legal", "tabloid", or "WxH" with one unit of util/units.hpp
+// for both sides ("300x200mm", "30x20cm", "11x8.5in"; bare numbers are mm).
 // Throws UserError naming the text when it is none of these or not positive.
 PageSpec parse_page(const std::string& text);
 

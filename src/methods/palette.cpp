@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <toml++/toml.h>
@@ -12,9 +13,46 @@ namespace stipplot {
 
 namespace {
 [[noreturn]] void fail(const std::string& source, const std::string& what) { throw UserError(source + ": " + what); }
+
+// One [[pen]] table; `where` names it ("pen 3", then "pen 3 'red'" once its name is known).
+Pen parse_pen(const toml::node& node, size_t index, const std::string& source, double default_width_mm) {
+  std::string where = "pen " + std::to_string(index);
+  const toml::table* t = node.as_table();
+  if (!t) fail(source, where + " is not a table: write each pen as [[pen]]");
+  Pen pen;
+  pen.width_mm = default_width_mm;
+  if (const toml::node* name = t->get("name")) {
+    auto s = name->value<std::string>();
+    if (!s || s->empty()) fail(source, where + ": 'name' must be a non-empty string");
+    pen.name = *s;
+  } else {
+    fail(source, where + ": missing 'name'");
+  }
+  where += " '" + pen.name + "'";
+  bool has_color = false;
+  for (auto&& [key, v] : *t) {
+    const std::string k(key.str());
+    if (k == "name") continue;
+    if (k == "color") {
+      auto s = v.value<std::string>();
+      if (!s) fail(source, where + ": 'color' must be a string such as \"#d7261e\"");
+      if (!Color::try_parse(*s, pen.color)) fail(source, where + ": bad color '" + *s + "' (use #rrggbb, e.g. \"#d7261e\")");
+      has_color = true;
+    } else if (k == "width") {
+      auto w = v.value<double>();
+      if (!w || !std::isfinite(*w) || *w < 0.01 || *w > 50)
+        fail(source, where + ": 'width' must be a number of millimetres in [0.01, 50]");
+      pen.width_mm = *w;
+    } else {
+      fail(source, where + ": unknown key '" + k + "' (expected name, color, width)");
+    }
+  }
+  if (!has_color) fail(source, where + ": missing 'color'");
+  return pen;
+}
 }  // namespace
 
-Palette parse_palette(const std::string& text, const std::string& source) {
+Palette parse_palette(const std::string& text, const std::string& source, double default_width_mm) {
   toml::table root;
   try {
     root = toml::parse(text, source);
@@ -39,52 +77,44 @@ Palette parse_palette(const std::string& text, const std::string& source) {
   if (!pens) fail(source, "'pen' must be an array of tables: write each pen as [[pen]]");
   if (pens->empty()) fail(source, "no pens: add at least one [[pen]] table with name and color");
   std::set<std::string> seen;
-  size_t index = 0;
   for (const toml::node& pn : *pens) {
-    ++index;
-    const std::string where = "pen " + std::to_string(index);
-    const toml::table* t = pn.as_table();
-    if (!t) fail(source, where + " is not a table: write each pen as [[pen]]");
-    Pen pen;
-    pen.width_mm = 0.3;
-    bool has_name = false, has_color = false;
-    for (auto&& [key, v] : *t) {
-      const std::string k(key.str());
-      if (k == "name") {
-        auto s = v.value<std::string>();
-        if (!s || s->empty()) fail(source, where + ": 'name' must be a non-empty string");
-        pen.name = *s;
-        has_name = true;
-      } else if (k == "color" || k == "colour") {
-        auto s = v.value<std::string>();
-        if (!s) fail(source, where + ": 'color' must be a string such as \"#d7261e\"");
-        if (!Color::try_parse(*s, pen.color))
-          fail(source, where + ": bad color '" + *s + "' (use #rrggbb, e.g. \"#d7261e\")");
-        has_color = true;
-      } else if (k == "width") {
-        auto w = v.value<double>();
-        if (!w || !std::isfinite(*w) || *w < 0.01 || *w > 50)
-          fail(source, where + ": 'width' must be a number of millimetres in [0.01, 50]");
-        pen.width_mm = *w;
-      } else {
-        fail(source, where + ": unknown key '" + k + "' (expected name, color, width)");
-      }
-    }
-    if (!has_name) fail(source, where + ": missing 'name'");
-    if (!has_color) fail(source, where + " '" + pen.name + "': missing 'color'");
-    if (!seen.insert(pen.name).second) fail(source, where + ": duplicate pen name '" + pen.name + "'");
+    Pen pen = parse_pen(pn, pal.pens.size() + 1, source, default_width_mm);
+    if (!seen.insert(pen.name).second)
+      fail(source, "pen " + std::to_string(pal.pens.size() + 1) + ": duplicate pen name '" + pen.name + "'");
     pal.pens.push_back(pen);
   }
   return pal;
 }
 
-Palette load_palette(const std::string& path) {
+Palette load_palette(const std::string& path, double default_width_mm) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UserError("--pens " + path + ": cannot open the file");
   std::ostringstream ss;
   ss << in.rdbuf();
   if (in.bad()) throw UserError("--pens " + path + ": cannot read the file");
-  return parse_palette(ss.str(), path);
+  return parse_palette(ss.str(), path, default_width_mm);
+}
+
+PenMatcher::PenMatcher(std::vector<Pen> pens) : pens_(std::move(pens)) {
+  if (pens_.empty()) throw UserError("--pens: the palette is empty");
+  for (const auto& p : pens_) pen_lab_.push_back(lab::from_srgb(p.color));
+}
+
+size_t PenMatcher::nearest(Color c) {
+  const uint32_t key = (uint32_t{c.r} << 16) | (uint32_t{c.g} << 8) | c.b;
+  if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+  const Lab x = lab::from_srgb(c);
+  size_t best = 0;
+  double best_d = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < pen_lab_.size(); ++i) {
+    const double d = ciede2000(x, pen_lab_[i]);
+    if (d < best_d) {
+      best_d = d;
+      best = i;
+    }
+  }
+  cache_.emplace(key, static_cast<uint32_t>(best));
+  return best;
 }
 
 }  // namespace stipplot

@@ -4,17 +4,9 @@
 #include <string>
 
 #include "geometry/page.hpp"
+#include "util/units.hpp"
 
 namespace stipplot {
-
-// A length given in input-image pixels ("1.5px") or in millimetres ("0.4mm", "0.4").
-struct Length {
-  double value = 0;
-  bool in_px = false;
-  double to_mm(double mm_per_px) const { return in_px ? value * mm_per_px : value; }
-  // Throws UserError naming `option` for a malformed, negative or non-finite length.
-  static Length parse(const std::string& text, const char* option);
-};
 
 struct Placement {
   PageSpec page{210, 297};

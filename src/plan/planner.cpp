@@ -131,4 +131,15 @@ Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info) {
   return plan;
 }
 
+double pen_up_travel(const Plan& plan, Vec2 pos) {
+  double s = 0;
+  for (const auto& l : plan.layers)
+    for (const auto& st : l.strokes) {
+      if (st.pts.empty()) continue;
+      s += std::hypot(st.pts.front().x - pos.x, st.pts.front().y - pos.y);
+      pos = st.pts.back();
+    }
+  return s;
+}
+
 }  // namespace stipplot

@@ -42,4 +42,8 @@ struct PlanInfo {
 };
 Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info);
 
+// Pen-up length of a plan: from `start` to each stroke's first point from the previous
+// stroke's last, across layers (what the planner keeps small). O(strokes).
+double pen_up_travel(const Plan& plan, Vec2 start = {0, 0});
+
 }  // namespace stipplot

@@ -6,7 +6,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "plan/kdtree.hpp"
+#include "spatial/kdtree.hpp"
 #include "util/error.hpp"
 
 namespace stipplot::plan {
@@ -58,33 +58,20 @@ void append_points(Stroke& s, const std::vector<Vec2>& pts, bool reversed) {
 
 }  // namespace
 
-std::vector<Stroke> join_polylines(const std::vector<Polyline>& lines, double tolerance) {
-  std::vector<Stroke> out;
-  VertexSnap snap(tolerance);
-  struct GEdge {
-    uint32_t u, v;
-    int32_t line;  // -1: virtual (pen-up) edge pairing two odd vertices
-  };
-  std::vector<GEdge> edges;
-  for (size_t i = 0; i < lines.size(); ++i) {
-    const auto& pts = lines[i].pts;
-    if (pts.empty()) continue;
-    if (pts.size() == 1) {
-      out.push_back({{pts[0]}});
-      continue;
-    }
-    uint32_t u = snap.id(pts.front());
-    uint32_t v = snap.id(pts.back());
-    edges.push_back({u, v, static_cast<int32_t>(i)});
-  }
-  const uint32_t nv = static_cast<uint32_t>(snap.pts.size());
-  if (edges.empty()) return out;
+namespace {
 
+struct GEdge {
+  uint32_t u, v;
+  int32_t line;  // -1: virtual (pen-up) edge pairing two odd vertices
+};
+
+// Pairs odd-degree vertices nearest-first with virtual edges. Any pairing inside a
+// component makes it Eulerian; pairs across components would merge them, so the
+// pairing runs per component. O(V log V).
+void pair_odd_vertices(const std::vector<Vec2>& vertex, std::vector<GEdge>& edges) {
+  const uint32_t nv = static_cast<uint32_t>(vertex.size());
   std::vector<uint32_t> degree(nv, 0);
   for (const auto& e : edges) ++degree[e.u], ++degree[e.v];
-  // Pair odd vertices nearest-first with virtual edges. Any pairing inside a
-  // component makes it Eulerian; pairs across components would merge them, so the
-  // pairing runs per component.
   std::vector<uint32_t> comp(nv);
   {
     std::vector<uint32_t> parent(nv);
@@ -111,20 +98,25 @@ std::vector<Stroke> join_polylines(const std::vector<Polyline>& lines, double to
   for (uint32_t c : comp_order) {
     const auto& odd = odd_by_comp[c];
     std::vector<Vec2> p(odd.size());
-    for (size_t k = 0; k < odd.size(); ++k) p[k] = snap.pts[odd[k]];
-    KdTree tree(p);
+    for (size_t k = 0; k < odd.size(); ++k) p[k] = vertex[odd[k]];
+    spatial::PlaneTree tree = spatial::plane_tree(p);
     for (uint32_t k = 0; k < odd.size(); ++k) {
       if (tree.alive() == 0) break;
       if (paired.count(k)) continue;
       tree.erase(k);
-      const uint32_t b = tree.nearest_alive(p[k]);
-      tree.erase(b);
+      const uint32_t b = tree.take_nearest(spatial::plane_point(p[k]));
       paired.insert(b);
       edges.push_back({odd[k], odd[b], -1});
     }
     paired.clear();
   }
+}
 
+// Walks an Euler circuit of every component (Hierholzer: depth-first until stuck,
+// emitting edges while backtracking), cuts it at the virtual edges and appends the
+// pieces as strokes. O(E + V).
+void euler_strokes(const std::vector<GEdge>& edges, uint32_t nv, const std::vector<Polyline>& lines,
+                   std::vector<Stroke>& out) {
   // Adjacency in CSR form.
   std::vector<uint32_t> start(nv + 1, 0);
   for (const auto& e : edges) ++start[e.u + 1], ++start[e.v + 1];
@@ -145,7 +137,6 @@ std::vector<Stroke> join_polylines(const std::vector<Polyline>& lines, double to
   std::vector<Step> circuit;
   for (uint32_t root = 0; root < nv; ++root) {
     if (visited[root] || start[root] == start[root + 1]) continue;
-    // Hierholzer: walk depth-first until stuck, emit edges while backtracking.
     circuit.clear();
     stack.assign(1, {root, -1});
     while (!stack.empty()) {
@@ -186,6 +177,28 @@ std::vector<Stroke> join_polylines(const std::vector<Polyline>& lines, double to
     }
     if (!cur.pts.empty()) out.push_back(std::move(cur));
   }
+}
+
+}  // namespace
+
+std::vector<Stroke> join_polylines(const std::vector<Polyline>& lines, double tolerance) {
+  std::vector<Stroke> out;
+  VertexSnap snap(tolerance);
+  std::vector<GEdge> edges;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const auto& pts = lines[i].pts;
+    if (pts.empty()) continue;
+    if (pts.size() == 1) {
+      out.push_back({{pts[0]}});
+      continue;
+    }
+    uint32_t u = snap.id(pts.front());
+    uint32_t v = snap.id(pts.back());
+    edges.push_back({u, v, static_cast<int32_t>(i)});
+  }
+  if (edges.empty()) return out;
+  pair_odd_vertices(snap.pts, edges);
+  euler_strokes(edges, static_cast<uint32_t>(snap.pts.size()), lines, out);
   return out;
 }
 

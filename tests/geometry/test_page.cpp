@@ -4,6 +4,7 @@
 #include "geometry/page.hpp"
 #include "methods/placement.hpp"
 #include "util/error.hpp"
+#include "util/units.hpp"
 
 using namespace stipplot;
 
@@ -54,6 +55,29 @@ TEST_CASE("lengths in mm or pixels", "[page]") {
   CHECK_THROWS_WITH(Length::parse("-1", "--dot-size"), Catch::Contains("--dot-size"));
   CHECK_THROWS_WITH(Length::parse("nan", "--dot-size"), Catch::Contains("--dot-size"));
   CHECK_THROWS_AS(Length::parse("px", "--dot-size"), UserError);
+}
+
+TEST_CASE("lengths - one grammar for paper units and image pixels", "[page][units]") {
+  CHECK(Length::parse("2cm", "--x").to_mm(3) == Approx(20));
+  CHECK(Length::parse("0.5in", "--x").to_mm(3) == Approx(12.7));
+  CHECK(Length::parse("72pt", "--x").to_mm(3) == Approx(25.4));
+  CHECK(Length::parse(" 1.5 PX ", "--x").to_mm(2) == Approx(3));
+  CHECK(Length::parse("3", "--radius", Length::Bare::px).in_px);
+  CHECK(Length::parse("3px", "--radius", Length::Bare::px).in_px);
+  CHECK_FALSE(Length::parse("0.5mm", "--radius", Length::Bare::px).in_px);
+  CHECK(Length::parse("0.4", "--x").value == 0.4);  // bare numbers exactly as written
+  CHECK_THROWS_WITH(Length::parse("3furlong", "--cell"), Catch::Contains("--cell"));
+  CHECK_THROWS_AS(Length::parse("0x10", "--x"), UserError);  // no hex
+  CHECK_THROWS_AS(Length::parse("inf", "--x"), UserError);
+  CHECK(parse_paper_mm("10", "--margin") == 10);
+  CHECK(parse_paper_mm("1.5cm", "--margin") == Approx(15));
+  CHECK_THROWS_WITH(parse_paper_mm("3px", "--margin"), Catch::Contains("--margin"));
+  CHECK_THROWS_WITH(parse_paper_mm("-1", "--margin"), Catch::Contains("--margin"));
+  CHECK_THROWS_AS(parse_paper_mm("", "--margin"), UserError);
+  // page sizes read their numbers and unit with the same grammar
+  CHECK(parse_page("30x20cm").width_mm == Approx(300));
+  CHECK(parse_page("720x360pt").height_mm == Approx(127));
+  CHECK_THROWS_WITH(parse_page("300x200px"), Catch::Contains("300x200px"));
 }
 
 TEST_CASE("colours parse from hex, rgb() and names", "[color]") {

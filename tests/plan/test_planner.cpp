@@ -6,7 +6,7 @@
 #include <map>
 #include <tuple>
 
-#include "plan/emst.hpp"
+#include "spatial/mst.hpp"
 #include "plan/planner.hpp"
 #include "drivers/motion/plan_stats.hpp"
 #include "plan/strokes.hpp"
@@ -77,15 +77,6 @@ void check_tree(const std::vector<Polyline>& lines) {
   CHECK(segments_of(strokes) == segments_of(lines));
 }
 
-double travel(const Plan& p, Vec2 start = {0, 0}) {
-  double s = 0;
-  for (const auto& l : p.layers)
-    for (const auto& st : l.strokes) {
-      s += std::hypot(st.pts.front().x - start.x, st.pts.front().y - start.y);
-      start = st.pts.back();
-    }
-  return s;
-}
 
 }  // namespace
 
@@ -103,7 +94,7 @@ TEST_CASE("tree strokes: random recursive trees need half their odd vertices", "
 TEST_CASE("tree strokes: Euclidean MSTs, paths and stars", "[plan][tree]") {
   auto pts = random_points(2000, 100, 7);
   std::vector<std::pair<uint32_t, uint32_t>> mst;
-  for (const auto& e : plan::euclidean_mst(pts)) mst.push_back({e.a, e.b});
+  for (const auto& e : spatial::euclidean_mst(pts)) mst.push_back({e.a, e.b});
   REQUIRE(mst.size() == pts.size() - 1);
   check_tree(as_segments(pts, mst, 1));
 
@@ -142,7 +133,7 @@ TEST_CASE("EMST is exact against Prim on small sets", "[plan][tree]") {
       for (size_t v = 0; v < n; ++v)
         if (!in[v]) best[v] = std::min(best[v], std::hypot(pts[u].x - pts[v].x, pts[u].y - pts[v].y));
     }
-    CHECK(plan::total_length(plan::euclidean_mst(pts)) == Approx(prim).epsilon(1e-12));
+    CHECK(spatial::total_cost(spatial::euclidean_mst(pts)) == Approx(prim).epsilon(1e-12));
   }
 }
 
@@ -186,7 +177,7 @@ TEST_CASE("dot tour is a permutation, shorter than generation order and greedy",
   const double t_opt = plan::tour_travel(pts, partner, {0, 0}, order);
   CHECK(t_opt < t_nn);
   CHECK(t_nn < t_gen / 5);
-  const double mst = plan::total_length(plan::euclidean_mst(pts));
+  const double mst = spatial::total_cost(spatial::euclidean_mst(pts));
   CHECK(t_opt < 1.25 * mst);
   // Deterministic at a local optimum.
   CHECK(plan::plan_tour(pts, partner, {0, 0}, full) == order);
@@ -215,7 +206,7 @@ TEST_CASE("strokes are ordered with free direction, each exactly once", "[plan][
   for (const auto& s : p.layers[0].strokes) touches += s.pts.size() == 1;
   CHECK(touches == 500);
   CHECK(p.layers[0].strokes.size() == 1000);
-  CHECK(travel(p) < travel(greedy));
+  CHECK(pen_up_travel(p) < pen_up_travel(greedy));
 }
 
 TEST_CASE("plan_drawing keeps layers, pens and every segment", "[plan]") {
@@ -225,7 +216,7 @@ TEST_CASE("plan_drawing keeps layers, pens and every segment", "[plan]") {
     l.pen.name = "pen" + std::to_string(k);
     auto pts = random_points(200, 100, 30 + k);
     std::vector<std::pair<uint32_t, uint32_t>> mst;
-    for (const auto& e : plan::euclidean_mst(pts)) mst.push_back({e.a, e.b});
+    for (const auto& e : spatial::euclidean_mst(pts)) mst.push_back({e.a, e.b});
     l.lines = as_segments(pts, mst, k);
     l.dots.push_back({{5, 5}, 0.2});
     l.circles.push_back({{50, 50}, 3, true});

@@ -14,11 +14,14 @@
 #include <set>
 #include <sstream>
 
+#include "eval/color_difference.hpp"
 #include "eval/fidelity.hpp"
 #include "image/image.hpp"
+#include "methods/palette.hpp"
 #include "methods/pointillism/pens.hpp"
 #include "methods/pointillism/pointillism.hpp"
 #include "preview/preview.hpp"
+#include "test_util.hpp"
 #include "util/error.hpp"
 
 using namespace stipplot;
@@ -28,44 +31,6 @@ namespace fs = std::filesystem;
 namespace {
 
 const std::string kCoffee = std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png";
-
-struct Tmp {
-  fs::path dir;
-  Tmp() {
-    static int n = 0;
-    dir = fs::temp_directory_path() / ("stipplot-pointillism-" + std::to_string(::getpid()) + "-" + std::to_string(n++));
-    fs::create_directories(dir);
-  }
-  ~Tmp() {
-    std::error_code ec;
-    fs::remove_all(dir, ec);
-  }
-  std::string file(const std::string& name) const { return (dir / name).string(); }
-};
-
-struct Run {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const std::string& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-Run cli(const std::string& args) {
-  Tmp t;
-  const std::string cmd =
-      std::string(STIPPLOT_BIN) + " " + args + " >" + t.file("out") + " 2>" + t.file("err") + " </dev/null";
-  const int rc = std::system(cmd.c_str());
-  Run r;
-  r.code = WIFEXITED(rc) ? WEXITSTATUS(rc) : 128;
-  r.out = slurp(t.file("out"));
-  r.err = slurp(t.file("err"));
-  return r;
-}
 
 // A small synthetic photo: a red disc on a blue-green gradient, with a grey strip.
 Image synthetic(int w = 160, int h = 120) {
@@ -100,52 +65,6 @@ Image coffee_small() {
 }
 
 }  // namespace
-
-// Sharma, Wu & Dalal (2005), Table 1: the 34 published CIEDE2000 test pairs.
-TEST_CASE("CIEDE2000 matches Sharma's published test data in both orders", "[pointillism][ciede2000]") {
-  const double data[34][7] = {
-      {50.0000, 2.6772, -79.7751, 50.0000, 0.0000, -82.7485, 2.0425},
-      {50.0000, 3.1571, -77.2803, 50.0000, 0.0000, -82.7485, 2.8615},
-      {50.0000, 2.8361, -74.0200, 50.0000, 0.0000, -82.7485, 3.4412},
-      {50.0000, -1.3802, -84.2814, 50.0000, 0.0000, -82.7485, 1.0000},
-      {50.0000, -1.1848, -84.8006, 50.0000, 0.0000, -82.7485, 1.0000},
-      {50.0000, -0.9009, -85.5211, 50.0000, 0.0000, -82.7485, 1.0000},
-      {50.0000, 0.0000, 0.0000, 50.0000, -1.0000, 2.0000, 2.3669},
-      {50.0000, -1.0000, 2.0000, 50.0000, 0.0000, 0.0000, 2.3669},
-      {50.0000, 2.4900, -0.0010, 50.0000, -2.4900, 0.0009, 7.1792},
-      {50.0000, 2.4900, -0.0010, 50.0000, -2.4900, 0.0010, 7.1792},
-      {50.0000, 2.4900, -0.0010, 50.0000, -2.4900, 0.0011, 7.2195},
-      {50.0000, 2.4900, -0.0010, 50.0000, -2.4900, 0.0012, 7.2195},
-      {50.0000, -0.0010, 2.4900, 50.0000, 0.0009, -2.4900, 4.8045},
-      {50.0000, -0.0010, 2.4900, 50.0000, 0.0010, -2.4900, 4.8045},
-      {50.0000, -0.0010, 2.4900, 50.0000, 0.0011, -2.4900, 4.7461},
-      {50.0000, 2.5000, 0.0000, 50.0000, 0.0000, -2.5000, 4.3065},
-      {50.0000, 2.5000, 0.0000, 73.0000, 25.0000, -18.0000, 27.1492},
-      {50.0000, 2.5000, 0.0000, 61.0000, -5.0000, 29.0000, 22.8977},
-      {50.0000, 2.5000, 0.0000, 56.0000, -27.0000, -3.0000, 31.9030},
-      {50.0000, 2.5000, 0.0000, 58.0000, 24.0000, 15.0000, 19.4535},
-      {50.0000, 2.5000, 0.0000, 50.0000, 3.1736, 0.5854, 1.0000},
-      {50.0000, 2.5000, 0.0000, 50.0000, 3.2972, 0.0000, 1.0000},
-      {50.0000, 2.5000, 0.0000, 50.0000, 1.8634, 0.5757, 1.0000},
-      {50.0000, 2.5000, 0.0000, 50.0000, 3.2592, 0.3350, 1.0000},
-      {60.2574, -34.0099, 36.2677, 60.4626, -34.1751, 39.4387, 1.2644},
-      {63.0109, -31.0961, -5.8663, 62.8187, -29.7946, -4.0864, 1.2630},
-      {61.2901, 3.7196, -5.3901, 61.4292, 2.2480, -4.9620, 1.8731},
-      {35.0831, -44.1164, 3.7933, 35.0232, -40.0716, 1.5901, 1.8645},
-      {22.7233, 20.0904, -46.6940, 23.0331, 14.9730, -42.5619, 2.0373},
-      {36.4612, 47.8580, 18.3852, 36.2715, 50.5065, 21.2231, 1.4146},
-      {90.8027, -2.0831, 1.4410, 91.1528, -1.6435, 0.0447, 1.4441},
-      {90.9257, -0.5406, -0.9208, 88.6381, -0.8985, -0.7239, 1.5381},
-      {6.7747, -0.2908, -2.4247, 5.8714, -0.0985, -2.2286, 0.6377},
-      {2.0776, 0.0795, -1.1350, 0.9033, -0.0636, -0.5514, 0.9082},
-  };
-  for (const auto& r : data) {
-    const lab::Lab x{r[0], r[1], r[2]}, y{r[3], r[4], r[5]};
-    CHECK(lab::delta_e00(x, y) == Approx(r[6]).margin(1e-4));
-    CHECK(lab::delta_e00(y, x) == Approx(r[6]).margin(1e-4));
-  }
-  CHECK(lab::delta_e00({50, 10, 10}, {50, 10, 10}) == 0);
-}
 
 TEST_CASE("scalar sRGB to Lab agrees with OpenCV and round-trips", "[pointillism][lab]") {
   double worst = 0;
@@ -402,24 +321,25 @@ TEST_CASE("drawing layers - exact colours ebauche first - pens nearest in CIEDE2
 }
 
 TEST_CASE("pen palettes - TOML parsed - malformed files rejected with the line", "[pointillism][pens]") {
-  const auto pens = parse_pens(
+  const auto pens = parse_palette(
       "[[pen]]\nname = \"red\"\ncolor = \"#e42a26\"\nwidth = 0.5\n\n[[pen]]\nname = \"blue\"\ncolor = \"#2a62c9\"\n",
-      "p.toml");
+      "p.toml", kDefaultPenWidthMm).pens;
   REQUIRE(pens.size() == 2);
   CHECK(pens[0].name == "red");
   CHECK(pens[0].color == Color{0xe4, 0x2a, 0x26});
   CHECK(pens[0].width_mm == 0.5);
   CHECK(pens[1].width_mm == 0.4);
-  CHECK_THROWS_AS(parse_pens("", "p.toml"), UserError);
-  CHECK_THROWS_AS(parse_pens("[[pen]]\nname = \"x\"\ncolor = \"#zzzzzz\"\n", "p.toml"), UserError);
-  CHECK_THROWS_AS(parse_pens("[[pen]]\nname = \"x\"\ncolor = \"#000000\"\nwidth = -1\n", "p.toml"), UserError);
-  CHECK_THROWS_AS(parse_pens("[[pen]]\nname = \"x\"\ncolour = \"#000000\"\n", "p.toml"), UserError);
-  CHECK_THROWS_AS(parse_pens("[[pen]]\ncolor = \"#000000\"\n", "p.toml"), UserError);
-  CHECK_THROWS_WITH(parse_pens("[[pen]\nname = 1", "p.toml"), Catch::Contains("p.toml:1"));
+  CHECK_THROWS_AS(parse_palette("", "p.toml"), UserError);
+  CHECK_THROWS_AS(parse_palette("[[pen]]\nname = \"x\"\ncolor = \"#zzzzzz\"\n", "p.toml"), UserError);
+  CHECK_THROWS_AS(parse_palette("[[pen]]\nname = \"x\"\ncolor = \"#000000\"\nwidth = -1\n", "p.toml"), UserError);
+  CHECK_THROWS_AS(parse_palette("[[pen]]\nname = \"x\"\ncolour = \"#000000\"\n", "p.toml"), UserError);
+  CHECK_THROWS_AS(parse_palette("[[pen]]\ncolor = \"#000000\"\n", "p.toml"), UserError);
+  CHECK_THROWS_WITH(parse_palette("[[pen]\nname = 1", "p.toml"), Catch::Contains("p.toml: line 1"));
   CHECK_THROWS_AS(PenMatcher({}), UserError);
   CHECK(default_pens().size() >= 12);
   // The shipped example file is the built-in palette.
-  const auto file = load_pens(std::string(STIPPLOT_SOURCE_DIR) + "/src/methods/pointillism/fineliners.toml");
+  const auto file =
+      load_palette(std::string(STIPPLOT_SOURCE_DIR) + "/src/methods/pointillism/fineliners.toml", kDefaultPenWidthMm).pens;
   const auto builtin = default_pens();
   REQUIRE(file.size() == builtin.size());
   for (size_t i = 0; i < file.size(); ++i) {
@@ -427,6 +347,9 @@ TEST_CASE("pen palettes - TOML parsed - malformed files rejected with the line",
     CHECK(file[i].color == builtin[i].color);
     CHECK(file[i].width_mm == builtin[i].width_mm);
   }
+  CHECK(builtin[0].name == "black");
+  CHECK(builtin[0].color == Color{0x1e, 0x1e, 0x1e});
+  CHECK(builtin[0].width_mm == 0.4);
 }
 
 TEST_CASE("pointillism: bad parameters are rejected naming the option", "[pointillism]") {
@@ -462,41 +385,41 @@ TEST_CASE("the ebauche brings the blurred drawing closer to the input (mean CIED
     po.dpi = 25.4 / pl.transform(img.width, img.height).mm_per_px();
     const Image page = render_preview(d, po);
     const Image drawn = crop_to_image(page, pl.transform(img.width, img.height), img.width, img.height);
-    return pointillism::mean_delta_e00_blurred(img, drawn, 2 * p.radius_px);
+    return mean_delta_e00_blurred(img, drawn, 2 * p.radius_px);
   };
   const double with = measure(true), without = measure(false);
   CHECK(with < without);
   CHECK(with < 12);
-  CHECK(pointillism::mean_delta_e00_blurred(img, img, 6) == Approx(0).margin(1e-9));
+  CHECK(mean_delta_e00_blurred(img, img, 6) == Approx(0).margin(1e-9));
 }
 
 TEST_CASE("CLI - pointillism writes SVG - preview and JSON - bad input fails with no file", "[pointillism][cli]") {
-  Tmp t;
-  Run ok = cli("pointillism " + kCoffee + " -o " + t.file("a.svg") + " --preview " + t.file("a.png") +
+  test::TempDir t;
+  test::RunResult ok = test::run_cli("pointillism " + kCoffee + " -o " + t.file("a.svg") + " --preview " + t.file("a.png") +
                " --regions 6 --weight 1.2 --json --fidelity");
   INFO(ok.err);
-  REQUIRE(ok.code == 0);
+  REQUIRE(ok.exit_code == 0);
   CHECK(fs::exists(t.file("a.svg")));
   CHECK(fs::exists(t.file("a.png")));
   CHECK(ok.out.find("\"mean_de00\"") != std::string::npos);
   CHECK(ok.out.find("\"command\":\"pointillism\"") != std::string::npos);
-  const std::string svg = slurp(t.file("a.svg"));
+  const std::string svg = test::read_file(t.file("a.svg"));
   CHECK(svg.find("ebauche") < svg.find("divided strokes"));
 
-  Run pens = cli("pointillism " + kCoffee + " -o " + t.file("p.svg") + " --plot-pens --radius 1mm -q");
-  CHECK(pens.code == 0);
-  CHECK(slurp(t.file("p.svg")).find("ebauche ") != std::string::npos);
+  test::RunResult pens = test::run_cli("pointillism " + kCoffee + " -o " + t.file("p.svg") + " --plot-pens --radius 1mm -q");
+  CHECK(pens.exit_code == 0);
+  CHECK(test::read_file(t.file("p.svg")).find("ebauche ") != std::string::npos);
 
   for (const std::string& args :
        {std::string("--regions 0"), std::string("--weight -1"), std::string("--radius 0"), std::string("--radius -2"),
         std::string("--weight nan"), std::string("--alpha-ebauche 0"), std::string("--pens ") + t.file("empty.toml")}) {
     std::ofstream(t.file("empty.toml")) << "# no pens\n";
-    Run r = cli("pointillism " + kCoffee + " -o " + t.file("bad.svg") + " " + args);
+    test::RunResult r = test::run_cli("pointillism " + kCoffee + " -o " + t.file("bad.svg") + " " + args);
     INFO(args << ": " << r.err);
-    CHECK(r.code != 0);
+    CHECK(r.exit_code != 0);
     CHECK(r.err.find("error") != std::string::npos);
     CHECK_FALSE(fs::exists(t.file("bad.svg")));
   }
-  Run help = cli("pointillism --help");
+  test::RunResult help = test::run_cli("pointillism --help");
   CHECK(help.out.find("Example:") != std::string::npos);
 }

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "methods/tree/tree.hpp"
+#include "test_util.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
 
@@ -20,28 +21,11 @@ using namespace stipplot::tree;
 
 namespace {
 
-bool spans(const std::vector<Edge>& edges, size_t n) {
-  if (n == 0) return edges.empty();
-  if (edges.size() != n - 1) return false;
-  std::vector<uint32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](uint32_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
-    return i;
-  };
-  for (const Edge& e : edges) {
-    const uint32_t a = find(e.a), b = find(e.b);
-    if (a == b) return false;
-    parent[a] = b;
-  }
-  return true;
-}
-
 void require_same_weight(const PointSet& pts, const CostParams& c) {
   const auto ref = mst_prim_reference(pts, c);
   const auto fast = mst_exact(pts, c);
-  REQUIRE(spans(ref, pts.size()));
-  REQUIRE(spans(fast, pts.size()));
+  REQUIRE(test::spans(ref, pts.size()));
+  REQUIRE(test::spans(fast, pts.size()));
   const double a = total_cost(ref), b = total_cost(fast);
   INFO("n=" << pts.size() << " cost=" << to_string(c.kind) << " alpha=" << c.alpha << " h=" << c.h);
   REQUIRE(b == Approx(a).epsilon(1e-12).margin(1e-9));
@@ -74,12 +58,11 @@ Image radial(int size) {
   return image_from(size, size, [&](int x, int y) { return 20 + 220 * std::hypot(x - c, y - c) / (c * std::sqrt(2.0)); });
 }
 
+// Runs `stipplot tree ARGS`; returns its stderr.
 std::string run_cli(const std::string& args, int* status) {
-  const std::string err = (std::filesystem::temp_directory_path() / "stipplot_tree_test_err.txt").string();
-  const std::string cmd = std::string(STIPPLOT_BIN) + " tree " + args + " 2>" + err + " >/dev/null";
-  *status = std::system(cmd.c_str());
-  std::ifstream f(err);
-  return std::string(std::istreambuf_iterator<char>(f), {});
+  const test::RunResult r = test::run_cli("tree " + args);
+  *status = r.exit_code;
+  return r.err;
 }
 
 }  // namespace
@@ -143,7 +126,7 @@ TEST_CASE("fast MST equals Prim's weight on stipples of the sample images, every
       INFO(name << " " << v << " points=" << fast.points.size());
       REQUIRE(fast.points.size() == ref.points.size());
       REQUIRE(fast.points.size() > 100);
-      REQUIRE(spans(fast.layers[0].edges, fast.points.size()));
+      REQUIRE(test::spans(fast.layers[0].edges, fast.points.size()));
       REQUIRE(total_cost(fast.layers[0].edges) == Approx(total_cost(ref.layers[0].edges)).epsilon(1e-12));
     }
   }
@@ -340,8 +323,8 @@ TEST_CASE("bad tree parameters are rejected naming the parameter", "[tree][error
 }
 
 TEST_CASE("stipplot tree CLI: bad parameters exit non-zero with the name and leave no output", "[tree][cli]") {
-  const auto dir = std::filesystem::temp_directory_path() / "stipplot_tree_cli";
-  std::filesystem::create_directories(dir);
+  const test::TempDir tmp;
+  const auto dir = tmp.path;
   const std::string in = std::string(STIPPLOT_SOURCE_DIR) + "/examples/horse.png";
   const std::string out = (dir / "t.svg").string(), land = (dir / "t.png").string();
   std::filesystem::remove(out);
@@ -377,7 +360,7 @@ TEST_CASE("tiny images: one point, no segments, terrain still the image size", "
       p.variant = parse_variant(v);
       const TreeResult r = tree_pixels(img, p);
       REQUIRE(r.points.size() >= 1);
-      for (const auto& l : r.layers) REQUIRE(spans(l.edges, r.points.size()));
+      for (const auto& l : r.layers) REQUIRE(test::spans(l.edges, r.points.size()));
       const Image land = terrain(r, TerrainParams{});
       REQUIRE(land.width == w);
       REQUIRE(land.height == 1);

@@ -5,7 +5,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "methods/pointillism/pens.hpp"
+#include "methods/palette.hpp"
 #include "util/error.hpp"
 
 namespace stipplot::pointillism {
@@ -346,36 +346,6 @@ Image region_image(const Result& r) {
     im.rgb[3 * i + 2] = c.b;
   }
   return im;
-}
-
-double mean_delta_e00_blurred(const Image& a, const Image& b_in, double sigma) {
-  if (a.pixels() == 0 || b_in.pixels() == 0) throw UserError("colour fidelity: empty image");
-  require_nonnegative("sigma", sigma);
-  Image b = b_in;
-  if (b.width != a.width || b.height != a.height) {
-    cv::Mat dst;
-    cv::resize(rgb_mat(b_in), dst, cv::Size(a.width, a.height), 0, 0, cv::INTER_AREA);
-    b.width = a.width;
-    b.height = a.height;
-    b.rgb.assign(dst.data, dst.data + b.pixels() * 3);
-  }
-  auto lab_of = [sigma](const Image& im) {
-    cv::Mat src = rgb_mat(im), bl, f, out;
-    if (sigma > 0) cv::GaussianBlur(src, bl, cv::Size(0, 0), sigma, sigma, cv::BORDER_REFLECT);
-    else bl = src;
-    bl.convertTo(f, CV_32FC3, 1.0 / 255);
-    cv::cvtColor(f, out, cv::COLOR_RGB2Lab);
-    return out;
-  };
-  const cv::Mat la = lab_of(a), lb = lab_of(b);
-  double sum = 0;
-  for (int y = 0; y < a.height; ++y) {
-    const float* pa = la.ptr<float>(y);
-    const float* pb = lb.ptr<float>(y);
-    for (int x = 0; x < a.width; ++x)
-      sum += lab::delta_e00({pa[3 * x], pa[3 * x + 1], pa[3 * x + 2]}, {pb[3 * x], pb[3 * x + 1], pb[3 * x + 2]});
-  }
-  return sum / static_cast<double>(a.pixels());
 }
 
 }  // namespace stipplot::pointillism

@@ -18,7 +18,7 @@
 #include "geometry/drawing.hpp"
 #include "image/image.hpp"
 #include "methods/placement.hpp"
-#include "methods/pointillism/lab.hpp"
+#include "eval/lab.hpp"
 #include "util/rng.hpp"
 
 namespace stipplot::pointillism {
@@ -113,10 +113,5 @@ Drawing pointillism(const Image& image, const Params& params, const Placement& p
 
 // Fig. 6(c): every pixel painted with its region's colour (region L*, mean a*, b*).
 Image region_image(const Result& r);
-
-// Mean CIEDE2000 between two images after a Gaussian blur of `sigma` pixels on both
-// (what the eye mixes from a distance); b is first resized to a's size by area
-// averaging. O(pixels).
-double mean_delta_e00_blurred(const Image& a, const Image& b, double sigma);
 
 }  // namespace stipplot::pointillism

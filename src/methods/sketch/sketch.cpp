@@ -249,6 +249,53 @@ EdgeField edge_field(const Image& grid) {
   return f;
 }
 
+namespace {
+// One point's mark: along the edge where the gradient is strong (longer, in more
+// parallel passes), the hatch direction where the image is flat; lightened and maybe
+// thinned out of the plot where the pixel is brighter than the pen.
+struct StrokeShaper {
+  const SketchParams& params;
+  const Image& grid;
+  const EdgeField& edges;
+  const PageTransform& T;
+  double sx, sy;  // input pixels per grid cell
+  double hx, hy;  // hatch direction on the page (y down)
+  bool lighten;
+
+  Stroke stroke(const Point& pt, const std::vector<float>& prob, double pen_luma, double spacing, Rng& thin) const {
+    const int ix = std::clamp(static_cast<int>(pt.x), 0, grid.width - 1);
+    const int iy = std::clamp(static_cast<int>(pt.y), 0, grid.height - 1);
+    const size_t i = static_cast<size_t>(iy) * grid.width + ix;
+    const double g = edges.strength[i];
+    const double s = smoothstep(params.edge_low, params.edge_high, g);
+    double dx = hx, dy = hy;
+    if (g >= params.edge_low) {
+      dx = edges.tx[i];
+      dy = edges.ty[i];
+    }
+    const double len = params.mark_mm + s * (params.edge_mm - params.mark_mm);
+    const int passes = 1 + static_cast<int>(std::lround(s * (params.max_passes - 1)));
+    Stroke st;
+    if (lighten) {
+      const double y = luma01(grid.rgb[3 * i], grid.rgb[3 * i + 1], grid.rgb[3 * i + 2]) / 255.0;
+      st.lighten = pen_luma < 1 ? static_cast<float>(std::max(0.0, (y - pen_luma) / (1 - pen_luma))) : 0.0f;
+      st.plotted = thin.uniform() < keep_share(prob[i], st.lighten);
+    }
+    const Vec2 ctr = T.map(pt.x * sx, pt.y * sy);
+    const double nx = -dy, ny = dx;
+    st.line.pts.reserve(2 * passes);
+    for (int k = 0; k < passes; ++k) {
+      const double off = (k - 0.5 * (passes - 1)) * spacing;
+      const double cx = ctr.x + nx * off, cy = ctr.y + ny * off;
+      const double sgn = (k % 2 == 0) ? 1 : -1;  // zigzag: one pen-down for all passes
+      st.line.pts.push_back({cx - sgn * dx * len / 2, cy - sgn * dy * len / 2});
+      st.line.pts.push_back({cx + sgn * dx * len / 2, cy + sgn * dy * len / 2});
+    }
+    return st;
+  }
+};
+}  // namespace
+
 SketchResult sketch_strokes(const Image& image, const SketchParams& params, const Placement& placement) {
   params.validate();
   placement.validate();
@@ -270,10 +317,10 @@ SketchResult sketch_strokes(const Image& image, const SketchParams& params, cons
   const Image grid = resize_to(image, r.grid_w, r.grid_h);
   const auto prob = pen_probabilities(grid, params, pens);
   const EdgeField edges = edge_field(grid);
-  const double sx = static_cast<double>(image.width) / r.grid_w, sy = static_cast<double>(image.height) / r.grid_h;
-  const bool lighten = params.lighten_on();
   const double hatch = params.hatch_deg * kPi / 180;
-  const double hx = std::cos(hatch), hy = -std::sin(hatch);  // y down on the page
+  const StrokeShaper shaper{params, grid, edges, T, static_cast<double>(image.width) / r.grid_w,
+                            static_cast<double>(image.height) / r.grid_h, std::cos(hatch), -std::sin(hatch),
+                            params.lighten_on()};
 
   // Solve every pen first so an absurd stroke count is refused before any allocation.
   std::vector<PointCount> counts(pens.size());
@@ -299,37 +346,7 @@ SketchResult sketch_strokes(const Image& image, const SketchParams& params, cons
     const double pen_luma = luma01(pc01.r, pc01.g, pc01.b);
     const double spacing = ps.pen.width_mm * 0.8;
     ps.strokes.reserve(pts.size());
-    for (const Point& pt : pts) {
-      const int ix = std::clamp(static_cast<int>(pt.x), 0, r.grid_w - 1);
-      const int iy = std::clamp(static_cast<int>(pt.y), 0, r.grid_h - 1);
-      const size_t i = static_cast<size_t>(iy) * r.grid_w + ix;
-      const double g = edges.strength[i];
-      const double s = smoothstep(params.edge_low, params.edge_high, g);
-      double dx = hx, dy = hy;
-      if (g >= params.edge_low) {
-        dx = edges.tx[i];
-        dy = edges.ty[i];
-      }
-      const double len = params.mark_mm + s * (params.edge_mm - params.mark_mm);
-      const int passes = 1 + static_cast<int>(std::lround(s * (params.max_passes - 1)));
-      Stroke st;
-      if (lighten) {
-        const double y = luma01(grid.rgb[3 * i], grid.rgb[3 * i + 1], grid.rgb[3 * i + 2]) / 255.0;
-        st.lighten = pen_luma < 1 ? static_cast<float>(std::max(0.0, (y - pen_luma) / (1 - pen_luma))) : 0.0f;
-        st.plotted = thin.uniform() < keep_share(prob[c][i], st.lighten);
-      }
-      const Vec2 ctr = T.map(pt.x * sx, pt.y * sy);
-      const double nx = -dy, ny = dx;
-      st.line.pts.reserve(2 * passes);
-      for (int k = 0; k < passes; ++k) {
-        const double off = (k - 0.5 * (passes - 1)) * spacing;
-        const double cx = ctr.x + nx * off, cy = ctr.y + ny * off;
-        const double sgn = (k % 2 == 0) ? 1 : -1;  // zigzag: one pen-down for all passes
-        st.line.pts.push_back({cx - sgn * dx * len / 2, cy - sgn * dy * len / 2});
-        st.line.pts.push_back({cx + sgn * dx * len / 2, cy + sgn * dy * len / 2});
-      }
-      ps.strokes.push_back(std::move(st));
-    }
+    for (const Point& pt : pts) ps.strokes.push_back(shaper.stroke(pt, prob[c], pen_luma, spacing, thin));
     r.pens.push_back(std::move(ps));
   }
   return r;

@@ -192,30 +192,24 @@ BinaryResult sample_binary(int width, int height, const std::vector<uint8_t>& d,
   std::vector<uint8_t> held(d.size(), kNone);
   BinaryResult out;
   const uint32_t w = static_cast<uint32_t>(width);
+  // One colour's step: pixel i takes a dot unless it holds the other colour or a dot of
+  // this colour lies within its radius.
+  auto place = [&](uint32_t i, uint8_t mine, uint8_t other, DotGrid& grid, CoverMask& cover, bool mono,
+                   const RadiusTable& r, std::vector<uint32_t>& dots) {
+    if (held[i] == other || (mono && cover.covered(i))) return;
+    const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
+    if (grid.any_within(x, y, r.r[d[i]], r.r2[d[i]])) return;
+    grid.insert(x, y);
+    if (mono) cover.paint_disc(x, y, r.r2[d[i]]);
+    held[i] = mine;
+    dots.push_back(i);
+  };
   const size_t n = dark_first.size();
   for (size_t k = 0; k < n; ++k) {
     if (progress && (k & kProgressMask) == 0) progress(static_cast<double>(k) / static_cast<double>(n));
     // Step k: the k-th darkest pixel may take a black dot, then the k-th brightest a white one.
-    uint32_t i = dark_first[k];
-    if (held[i] != kWhite && !(black_mono && black_cover.covered(i))) {
-      int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
-      if (!black.any_within(x, y, s.r[d[i]], s.r2[d[i]])) {
-        black.insert(x, y);
-        if (black_mono) black_cover.paint_disc(x, y, s.r2[d[i]]);
-        held[i] = kBlack;
-        out.black.push_back(i);
-      }
-    }
-    uint32_t j = bright_first[k];
-    if (held[j] != kBlack && !(white_mono && white_cover.covered(j))) {
-      int x = static_cast<int>(j % w), y = static_cast<int>(j / w);
-      if (!white.any_within(x, y, t.r[d[j]], t.r2[d[j]])) {
-        white.insert(x, y);
-        if (white_mono) white_cover.paint_disc(x, y, t.r2[d[j]]);
-        held[j] = kWhite;
-        out.white.push_back(j);
-      }
-    }
+    place(dark_first[k], kBlack, kWhite, black, black_cover, black_mono, s, out.black);
+    place(bright_first[k], kWhite, kBlack, white, white_cover, white_mono, t, out.white);
   }
   return out;
 }

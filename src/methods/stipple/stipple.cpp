@@ -75,6 +75,65 @@ pds::ProgressFn part(const pds::ProgressFn& all, int i, int n) {
   return [all, i, n](double f) { all((i + f) / n); };
 }
 
+// Binary-stipple R, G and B; a dotted pixel shows 0 (black dot), 255 (white dot) or 128
+// (no dot) in each channel, so the recombined dots take 3^3 - 1 = 26 colours on the grey
+// ground (the 27th is the ground itself).
+void colour_layers(const Image& image, const StippleParams& p, Rng& rng, const pds::ProgressFn& progress,
+                   StippleResult& out) {
+  const int w = image.width, h = image.height;
+  std::vector<uint8_t> state(image.pixels() * 3, 128);
+  std::vector<uint8_t> any(image.pixels(), 0);
+  for (int c = 0; c < 3; ++c) {
+    auto r = binary(w, h, image.plane(c), p, rng, part(progress, c, 3));
+    for (uint32_t i : r.black) state[size_t{i} * 3 + static_cast<size_t>(c)] = 0, any[i] = 1;
+    for (uint32_t i : r.white) state[size_t{i} * 3 + static_cast<size_t>(c)] = 255, any[i] = 1;
+  }
+  std::map<std::array<uint8_t, 3>, size_t> layer_of;
+  out.paper = kGreyPaper;
+  for (uint32_t i = 0; i < static_cast<uint32_t>(any.size()); ++i) {
+    if (!any[i]) continue;
+    std::array<uint8_t, 3> key{state[size_t{i} * 3], state[size_t{i} * 3 + 1], state[size_t{i} * 3 + 2]};
+    auto [it, inserted] = layer_of.try_emplace(key, 0);
+    if (inserted) {
+      Color col{key[0], key[1], key[2]};
+      it->second = out.layers.size();
+      out.layers.push_back({Pen{col.hex(), col, 0.3}, {}});
+    }
+    out.layers[it->second].dots.push_back(i);
+  }
+  // Stable layer order for reproducible files: by colour value.
+  std::sort(out.layers.begin(), out.layers.end(), [](const StippleLayer& x, const StippleLayer& y) {
+    return std::tie(x.pen.color.r, x.pen.color.g, x.pen.color.b) < std::tie(y.pen.color.r, y.pen.color.g, y.pen.color.b);
+  });
+}
+
+// Ink subtracts light, so plot a separation: K = 1 - max(R,G,B) with grey component
+// replacement, C = (1 - R - K)/(1 - K) etc. Each ink's coverage is stippled as a
+// dark-is-dense grey image 255*(1 - coverage). Unlike the paper's one-ink methods, paper
+// that needs none of an ink gets none of its dots (below 2% coverage), or every light
+// area would be speckled with all four inks.
+void cmyk_layers(const Image& image, const StippleParams& p, Rng& rng, const pds::ProgressFn& progress,
+                 StippleResult& out) {
+  const int w = image.width, h = image.height;
+  const size_t n = image.pixels();
+  std::array<std::vector<uint8_t>, 4> cov;
+  for (auto& v : cov) v.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    double r = image.rgb[i * 3] / 255.0, g = image.rgb[i * 3 + 1] / 255.0, b = image.rgb[i * 3 + 2] / 255.0;
+    double k = 1 - std::max({r, g, b});
+    double inv = k < 1 ? 1 / (1 - k) : 0;
+    double ink[4] = {(1 - r - k) * inv, (1 - g - k) * inv, (1 - b - k) * inv, k};
+    for (int c = 0; c < 4; ++c)
+      cov[static_cast<size_t>(c)][i] = static_cast<uint8_t>(std::lround(255 * (1 - std::clamp(ink[c], 0.0, 1.0))));
+  }
+  static const Pen pens[4] = {{"cyan", {0, 174, 239}, 0.3},
+                              {"magenta", {236, 0, 140}, 0.3},
+                              {"yellow", {255, 221, 0}, 0.3},
+                              {"black", colors::black, 0.3}};
+  for (int c = 0; c < 4; ++c)
+    out.layers.push_back({pens[c], one_colour(w, h, cov[static_cast<size_t>(c)], p.a, p.b, false, rng, part(progress, c, 4), 250)});
+}
+
 }  // namespace
 
 StippleResult stipple_pixels(const Image& image, const StippleParams& p, const std::function<void(double)>& progress) {
@@ -108,61 +167,12 @@ StippleResult stipple_pixels(const Image& image, const StippleParams& p, const s
       out.layers.push_back({Pen{"white", colors::white, 0.3}, std::move(r.white)});
       break;
     }
-    case StippleMethod::Color: {
-      // Binary-stipple R, G and B; a dotted pixel shows 0 (black dot), 255 (white dot)
-      // or 128 (no dot) in each channel, so the recombined dots take 3^3 - 1 = 26
-      // colours on the grey ground (the 27th is the ground itself).
-      std::vector<uint8_t> state(image.pixels() * 3, 128);
-      std::vector<uint8_t> any(image.pixels(), 0);
-      for (int c = 0; c < 3; ++c) {
-        auto r = binary(w, h, image.plane(c), p, rng, part(progress, c, 3));
-        for (uint32_t i : r.black) state[size_t{i} * 3 + static_cast<size_t>(c)] = 0, any[i] = 1;
-        for (uint32_t i : r.white) state[size_t{i} * 3 + static_cast<size_t>(c)] = 255, any[i] = 1;
-      }
-      std::map<std::array<uint8_t, 3>, size_t> layer_of;
-      out.paper = kGreyPaper;
-      for (uint32_t i = 0; i < static_cast<uint32_t>(any.size()); ++i) {
-        if (!any[i]) continue;
-        std::array<uint8_t, 3> key{state[size_t{i} * 3], state[size_t{i} * 3 + 1], state[size_t{i} * 3 + 2]};
-        auto [it, inserted] = layer_of.try_emplace(key, 0);
-        if (inserted) {
-          Color col{key[0], key[1], key[2]};
-          it->second = out.layers.size();
-          out.layers.push_back({Pen{col.hex(), col, 0.3}, {}});
-        }
-        out.layers[it->second].dots.push_back(i);
-      }
-      // Stable layer order for reproducible files: by colour value.
-      std::sort(out.layers.begin(), out.layers.end(), [](const StippleLayer& x, const StippleLayer& y) {
-        return std::tie(x.pen.color.r, x.pen.color.g, x.pen.color.b) < std::tie(y.pen.color.r, y.pen.color.g, y.pen.color.b);
-      });
+    case StippleMethod::Color:
+      colour_layers(image, p, rng, progress, out);
       break;
-    }
-    case StippleMethod::Cmyk: {
-      // Ink subtracts light, so plot a separation: K = 1 - max(R,G,B) with grey
-      // component replacement, C = (1 - R - K)/(1 - K) etc. Each ink's coverage is
-      // stippled as a dark-is-dense grey image 255*(1 - coverage). Unlike the paper's
-      // one-ink methods, paper that needs none of an ink gets none of its dots (below
-      // 2% coverage), or every light area would be speckled with all four inks.
-      const size_t n = image.pixels();
-      std::array<std::vector<uint8_t>, 4> cov;
-      for (auto& v : cov) v.resize(n);
-      for (size_t i = 0; i < n; ++i) {
-        double r = image.rgb[i * 3] / 255.0, g = image.rgb[i * 3 + 1] / 255.0, b = image.rgb[i * 3 + 2] / 255.0;
-        double k = 1 - std::max({r, g, b});
-        double inv = k < 1 ? 1 / (1 - k) : 0;
-        double ink[4] = {(1 - r - k) * inv, (1 - g - k) * inv, (1 - b - k) * inv, k};
-        for (int c = 0; c < 4; ++c)
-          cov[static_cast<size_t>(c)][i] = static_cast<uint8_t>(std::lround(255 * (1 - std::clamp(ink[c], 0.0, 1.0))));
-      }
-      static const Pen pens[4] = {{"cyan", {0, 174, 239}, 0.3},
-                                  {"magenta", {236, 0, 140}, 0.3},
-                                  {"yellow", {255, 221, 0}, 0.3},
-                                  {"black", colors::black, 0.3}};
-      for (int c = 0; c < 4; ++c)
-        out.layers.push_back({pens[c], one_colour(w, h, cov[static_cast<size_t>(c)], p.a, p.b, false, rng, part(progress, c, 4), 250)});
+    case StippleMethod::Cmyk:
+      cmyk_layers(image, p, rng, progress, out);
       break;
-    }
   }
   return out;
 }

@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "spatial/mst.hpp"
+
 namespace stipplot::tree {
 
 enum class Distance { ED, BD, SIBD };
@@ -36,10 +38,7 @@ struct PointSet {
   }
 };
 
-struct Edge {
-  uint32_t a = 0, b = 0;
-  double cost = 0;
-};
+using Edge = spatial::Edge;
 
 // The squared distance between points i and j; both MST algorithms use exactly this.
 double edge_cost2(const PointSet& p, const CostParams& c, uint32_t i, uint32_t j);
@@ -47,22 +46,14 @@ double edge_cost2(const PointSet& p, const CostParams& c, uint32_t i, uint32_t j
 // The paper's Prim on the complete graph. O(n²) time, O(n) memory. Reference only.
 std::vector<Edge> mst_prim_reference(const PointSet& p, const CostParams& c);
 
-// Exact MST by Borůvka rounds over a kd-tree in (x, y, d). Each round every component
-// finds its cheapest outgoing edge; a point's nearest foreign neighbour is cached
-// between rounds (foreign sets only shrink, so a stale cost is a lower bound), kd-tree
-// subtrees lying in one component are skipped, and search stops at the component's
-// best cost so far (every cost here is at least the box's lower bound: spatial
-// distance, plus for BD the intensity gap, for SIBD the least possible penalty).
-// Ties are broken by (cost, lower index, higher index) so the rounds never cycle.
-// Time O(n log n) to build plus O(log n) rounds of near-logarithmic queries on
-// well-spread points (stipples); memory O(n).
-struct MstStats {
-  int rounds = 0;
-  size_t queries = 0;  // nearest-foreign-neighbour searches run
-};
+// Exact MST by spatial::boruvka_mst over a kd-tree in (x, y, d), with box lower bounds
+// of each cost: spatial distance, plus for BD the intensity gap, for SIBD the least
+// possible penalty. Time O(n log n) to build plus O(log n) rounds of near-logarithmic
+// queries on well-spread points (stipples); memory O(n).
+using MstStats = spatial::MstStats;
 std::vector<Edge> mst_exact(const PointSet& p, const CostParams& c, MstStats* stats = nullptr);
 
-double total_cost(const std::vector<Edge>& edges);
+using spatial::total_cost;
 
 Distance parse_distance(const std::string& name);  // "ed" | "bd" | "sibd"
 const char* to_string(Distance d);

@@ -1,10 +1,21 @@
 #pragma once
-// CIE L*a*b* (D65, sRGB primaries) for the pointillism method: scalar conversions,
-// the sRGB gamut along a hue ray, and the CIEDE2000 colour difference.
-// Bulk image conversion goes through OpenCV (cvtColor); these are for single colours
-// (dots, pens) and must agree with it to well under one ΔE.
-#include "eval/color_difference.hpp"
+// CIE L*a*b* (D65, sRGB primaries) of single colours (dots, pens): conversions, the sRGB
+// gamut along a hue ray, and the CIEDE2000 colour difference. Bulk image conversion goes
+// through OpenCV (cvtColor, see color_difference.hpp); these must agree with it to well
+// under one ΔE.
 #include "geometry/color.hpp"
+
+namespace stipplot {
+
+struct Lab {
+  double L = 0, a = 0, b = 0;
+};
+
+// CIEDE2000 (CIE 142-2001) with kL = kC = kH = 1, following Sharma, Wu & Dalal (2005),
+// including their notes on hue wrap-around and zero chroma. O(1).
+double ciede2000(const Lab& x, const Lab& y);
+
+}  // namespace stipplot
 
 namespace stipplot::lab {
 
@@ -25,9 +36,7 @@ Color to_srgb(const Lab& lab);
 // to `tol`. hue in radians. O(log(C_max / tol)).
 double max_chroma(double L, double hue, double tol = 1e-3);
 
-// CIEDE2000 (CIE 142-2001; kL = kC = kH = 1), following the implementation notes of
-// Sharma, Wu and Dalal (Color Res. Appl. 30(1), 2005), including their conventions
-// for zero chroma and for the mean hue across the 0/360 boundary. O(1).
+// The same CIEDE2000 under the name the colour methods use.
 inline double delta_e00(const Lab& x, const Lab& y) { return stipplot::ciede2000(x, y); }
 
 }  // namespace stipplot::lab

@@ -1,0 +1,38 @@
+#pragma once
+// Lengths as users write them: a decimal number with an optional unit, one grammar for
+// every option and for page sizes. Paper units: mm, cm, in, pt (1/72 in); a bare number
+// is millimetres. "px" is an input-image pixel: how big a mark is relative to the photo,
+// which becomes millimetres only once the image is placed on the page.
+#include <string>
+#include <string_view>
+
+namespace stipplot {
+
+// Splits "12.5mm", " 3 px", "0.4" into the number and the unit word (lower-cased, maybe
+// empty). False unless the text is a plain decimal number (sign, digits, point,
+// exponent; no hex, inf or nan) followed by nothing but letters and blanks.
+bool split_number_unit(std::string_view text, double& value, std::string& unit);
+
+// Millimetres per paper unit: "" and "mm" 1, "cm" 10, "in" 25.4, "pt" 25.4/72;
+// 0 for anything else (including "px", which is no paper length).
+double mm_per_unit(std::string_view unit);
+
+// A length in millimetres on paper, or in input-image pixels.
+struct Length {
+  double value = 0;
+  bool in_px = false;
+  double to_mm(double mm_per_px) const { return in_px ? value * mm_per_px : value; }
+
+  // What a bare number means for the option: millimetres everywhere except where an
+  // option sizes a mark in the paper's pixels (pointillism --radius 3 = 3 px).
+  enum class Bare { mm, px };
+  // "0.4", "0.4mm", "1.5px", "0.1cm", "0.02in", "1pt". Throws UserError naming `option`
+  // for a malformed, negative or non-finite length or an unknown unit.
+  static Length parse(std::string_view text, const char* option, Bare bare = Bare::mm);
+};
+
+// A length that only exists on paper (margins, pen widths, tolerances): as Length::parse
+// with bare numbers in mm, but "px" is refused. Returns millimetres.
+double parse_paper_mm(std::string_view text, const char* option);
+
+}  // namespace stipplot

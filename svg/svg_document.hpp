@@ -1,0 +1,34 @@
+#pragma once
+// The frame every SVG writer here puts around its drawing: the XML declaration, <svg> in
+// millimetres with a matching viewBox, the title, the paper as a background rect on a
+// layer labelled '%' (which plotting tools skip), and one Inkscape layer per pen.
+#include <tinyxml2.h>
+
+#include <string>
+
+#include "geometry/drawing.hpp"
+
+namespace stipplot {
+
+struct SvgFrame {
+  Page page;
+  std::string title;
+  bool paper_background = true;
+  // The paper layer also locked in Inkscape (sodipodi:insensitive, which declares the
+  // sodipodi namespace) and classed "non-plotting".
+  bool lock_paper = false;
+  int decimals = 3;
+};
+
+// Writes everything up to the first pen layer and leaves <svg> open (close it with
+// CloseElement).
+void open_svg_document(tinyxml2::XMLPrinter& p, const SvgFrame& frame);
+
+// Opens pen layer `index` (1-based; label "index name") with the pen's colour and width
+// as stroke defaults; close it with CloseElement.
+void open_pen_layer(tinyxml2::XMLPrinter& p, int index, const Pen& pen, int decimals);
+
+// A filled disc without outline (<circle ... fill stroke="none"/>): a dot of ink.
+void push_filled_circle(tinyxml2::XMLPrinter& p, Vec2 c, double r, const std::string& fill, int decimals);
+
+}  // namespace stipplot
