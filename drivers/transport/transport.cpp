@@ -17,13 +17,6 @@ FlowControl parse_flow_control(const std::string& s) {
   throw UserError("flow control must be none, xonxoff or rtscts, got '" + s + "'");
 }
 
-Parity parse_parity(const std::string& s) {
-  if (s == "none" || s == "N") return Parity::None;
-  if (s == "odd" || s == "O") return Parity::Odd;
-  if (s == "even" || s == "E") return Parity::Even;
-  throw UserError("parity must be none, odd or even, got '" + s + "'");
-}
-
 const char* to_string(FlowControl f) {
   switch (f) {
     case FlowControl::XonXoff: return "xonxoff";

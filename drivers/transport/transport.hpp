@@ -37,7 +37,6 @@ struct SerialSettings {
   FlowControl flow = FlowControl::None;
 };
 FlowControl parse_flow_control(const std::string& s);  // "none" | "xonxoff" | "rtscts"
-Parity parse_parity(const std::string& s);             // "none" | "odd" | "even"
 const char* to_string(FlowControl f);
 
 class Transport {

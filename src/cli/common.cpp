@@ -67,12 +67,18 @@ void require_png_path(const std::string& option, const std::string& path) {
   require_writable_dir(path);
 }
 
-OutputKind output_kind(const std::string& path, const std::string& option) {
+std::optional<OutputKind> kind_of_file(const std::string& path) {
   const std::string e = lower_extension(path);
   if (e == ".svg") return OutputKind::svg;
-  if (e == ".gcode" || e == ".nc" || e == ".gc") return OutputKind::gcode;
-  if (e == ".hpgl" || e == ".plt" || e == ".hpg") return OutputKind::hpgl;
-  throw UserError(option + " " + path + ": unknown output type '" + e + "' (use .svg, .gcode or .hpgl)");
+  if (e == ".gcode" || e == ".nc" || e == ".ngc" || e == ".gc" || e == ".g") return OutputKind::gcode;
+  if (e == ".hpgl" || e == ".plt" || e == ".hpg" || e == ".hgl") return OutputKind::hpgl;
+  return std::nullopt;
+}
+
+OutputKind output_kind(const std::string& path, const std::string& option) {
+  if (auto k = kind_of_file(path)) return *k;
+  throw UserError(option + " " + path + ": unknown output type '" + lower_extension(path) +
+                  "' (use .svg, .gcode or .hpgl)");
 }
 
 void check_profile_for(OutputKind kind, const std::string& path, const std::string& profile_name) {

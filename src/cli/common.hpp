@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "cli/plan_options.hpp"
@@ -41,6 +42,10 @@ void require_png_path(const std::string& option, const std::string& path);
 // Output kinds by extension: a Drawing as SVG, or planned for a device as G-code/HPGL
 // (or, for export, the planned order as SVG).
 enum class OutputKind { svg, gcode, hpgl };
+// By extension, case-insensitive (.svg; .gcode .nc .ngc .gc .g; .hpgl .plt .hpg .hgl);
+// nullopt for anything else. The one list both writing (-o) and plotting use.
+std::optional<OutputKind> kind_of_file(const std::string& path);
+// Like kind_of_file, but an unknown extension is a UserError naming `option`.
 OutputKind output_kind(const std::string& path, const std::string& option = "-o");
 // Checked before any work: a .gcode output needs a grbl profile, .hpgl an HPGL one.
 void check_profile_for(OutputKind kind, const std::string& path, const std::string& profile_name);

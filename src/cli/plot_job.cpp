@@ -1,6 +1,5 @@
 #include "cli/plot_job.hpp"
 
-#include <algorithm>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
@@ -10,21 +9,13 @@
 
 namespace stipplot::cli {
 
-static std::string lower_ext(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return e;
-}
-
 bool is_job_file(const std::string& path) {
-  std::string e = lower_ext(path);
-  return e == ".gcode" || e == ".nc" || e == ".ngc" || e == ".g" || e == ".gc" || e == ".hpgl" || e == ".plt" ||
-         e == ".hpg" || e == ".hgl";
+  auto k = kind_of_file(path);
+  return k && *k != OutputKind::svg;
 }
 
 io::Dialect dialect_of(const std::string& path) {
-  std::string e = lower_ext(path);
-  return (e == ".hpgl" || e == ".plt" || e == ".hpg" || e == ".hgl") ? io::Dialect::Hpgl : io::Dialect::GCode;
+  return kind_of_file(path) == OutputKind::hpgl ? io::Dialect::Hpgl : io::Dialect::GCode;
 }
 
 DeviceProfile plot_profile(const std::string& name, io::Dialect dialect) {
@@ -64,7 +55,7 @@ void check_job_name(const std::string& path, const DeviceProfile& prof) {
 
 PreparedJob prepare_job(const PlotJobRequest& r) {
   if (is_job_file(r.input)) return {r.input, dialect_of(r.input), r.profile};
-  if (lower_ext(r.input) != ".svg")
+  if (!has_extension(r.input, ".svg"))
     throw UserError("plot takes an SVG drawing or a .gcode/.hpgl job; for an image, run a method first (e.g. "
                     "stipplot stipple photo.jpg -o photo.svg) and plot the SVG");
   const std::string profile = r.profile.empty() ? kDefaultProfile : r.profile;

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <unistd.h>
 
 #include "drivers/writers/gcode_writer.hpp"
 #include "drivers/writers/hpgl_writer.hpp"
@@ -21,6 +22,13 @@
 
 using namespace stipplot;
 namespace fs = std::filesystem;
+
+namespace {
+// Per process, so parallel test runs never share a file.
+fs::path scratch(const std::string& name) {
+  return fs::temp_directory_path() / ("stipplot-" + std::to_string(::getpid()) + "-" + name);
+}
+}  // namespace
 
 namespace {
 
@@ -329,7 +337,7 @@ TEST_CASE("a plan outside the travel is refused naming the point, and no file is
   DeviceProfile prof = find_profile("grbl-servo");
   Plan plan = test::random_plan(1, 1, 5, 0, 500, 297);
   plan.layers[0].strokes.push_back({{{100, 50}, {445.5, 60}}});
-  const fs::path out = fs::temp_directory_path() / "stipplot_oob_test.gcode";
+  const fs::path out = scratch("oob_test.gcode");
   fs::remove(out);
   try {
     write_gcode_file(plan, prof, out.string());
@@ -402,10 +410,9 @@ TEST_CASE("HPGL refuses more layers than the plotter has pens", "[writers][hpgl]
 }
 
 TEST_CASE("writers write files atomically with the profile's line ending", "[writers]") {
-  const fs::path dir = fs::temp_directory_path();
   Plan plan = test::random_plan(9, 2, 20, 5, 420, 297, 15);
   DeviceProfile hp = find_profile("hp7475a-a3");  // newline = false
-  const fs::path h = dir / "stipplot_writer_test.hpgl";
+  const fs::path h = scratch("writer_test.hpgl");
   write_hpgl_file(plan, hp, h.string());
   std::ifstream in(h);
   std::string all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -416,7 +423,7 @@ TEST_CASE("writers write files atomically with the profile's line ending", "[wri
   CHECK(all == joined);
   fs::remove(h);
 
-  const fs::path g = dir / "stipplot_writer_test.gcode";
+  const fs::path g = scratch("writer_test.gcode");
   DeviceProfile servo = find_profile("grbl-servo");
   write_gcode_file(plan, servo, g.string());
   std::ifstream gin(g);
