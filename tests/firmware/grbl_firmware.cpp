@@ -216,6 +216,7 @@ struct GrblFirmware::Impl {
   std::vector<DeviceLine> device;
   std::vector<SessionInfo> sessions;
   int cur = -1;
+  double t_last_reply = 0;
 
   bool trig_armed = false, trig_fired = false;
   size_t trig_n = 0, trig_seen = 0;
@@ -366,6 +367,7 @@ void GrblFirmware::Impl::device_line(const std::string& text, bool forwarded) {
     h.error = err ? std::atoi(text.c_str() + 6) : 0;
     h.t_reply = now();
     h.reply_forwarded = forwarded;
+    t_last_reply = h.t_reply;
     s.events.push_back({SessionEvent::Kind::Line, static_cast<size_t>(&h - lines.data())});
   } else if (text.rfind("Grbl ", 0) == 0) {  // boot or reset: grbl's buffers were emptied
     for (const Pending& q : pending) lines[q.line].reply = HostLine::Reply::Flushed;
@@ -698,6 +700,27 @@ std::vector<std::string> GrblFirmware::command(const std::string& line, double t
   return out;
 }
 
+std::vector<std::string> GrblFirmware::stream(const std::vector<std::string>& lines, double timeout_s) {
+  Impl& I = *impl_;
+  std::unique_lock<std::mutex> lk(I.mu);
+  auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
+  std::vector<size_t> sent;
+  std::vector<std::string> replies;
+  size_t next = 0, done = 0, in_buffer = 0;
+  while (done < lines.size()) {
+    while (next < lines.size() && in_buffer + lines[next].size() + 1 <= 127) {
+      sent.push_back(I.send_locked(lines[next]));
+      in_buffer += lines[next++].size() + 1;
+    }
+    if (!I.cv.wait_until(lk, end, [&] { return I.lines[sent[done]].reply != HostLine::Reply::None; }))
+      throw std::runtime_error("grbl did not answer `" + lines[done] + "` in time");
+    const HostLine& h = I.lines[sent[done]];
+    replies.push_back(h.reply == HostLine::Reply::Ok ? "ok" : "error:" + std::to_string(h.error));
+    in_buffer -= lines[done++].size() + 1;
+  }
+  return replies;
+}
+
 std::string GrblFirmware::status(double timeout_s) {
   Impl& I = *impl_;
   std::unique_lock<std::mutex> lk(I.mu);
@@ -739,12 +762,15 @@ bool GrblFirmware::wait_idle(double timeout_s) {
   while (Clock::now() < end) {
     std::string s = status();
     bool unanswered;
+    double quiet;
     {
       std::lock_guard<std::mutex> lk(impl_->mu);
       unanswered = !impl_->pending.empty();
+      quiet = impl_->now() - impl_->t_last_reply;
     }
-    // Idle with no line left unanswered: grbl also reports Idle during a dwell.
-    if (s.rfind("<Idle", 0) == 0 && !unanswered) return true;
+    // Idle with no line left unanswered (grbl also reports Idle during a dwell), or with
+    // none answered for 2 s (lines that lost their end in an RX overflow never will be).
+    if (s.rfind("<Idle", 0) == 0 && (!unanswered || quiet > 2)) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   return false;

@@ -88,6 +88,9 @@ class GrblFirmware {
   // --- the harness as the host (only while no client pty is open) ---
   // Sends a line, returns grbl's reply lines up to and including ok / error:N.
   std::vector<std::string> command(const std::string& line, double timeout_s = 10);
+  // Character counting as grbl's docs describe it: keep at most 127 unanswered bytes in
+  // grbl's 128-byte RX buffer. Returns grbl's reply to each line (ok, error:N).
+  std::vector<std::string> stream(const std::vector<std::string>& lines, double timeout_s = 120);
   std::string status(double timeout_s = 5);  // '?' -> "<Idle|MPos:...>"
   void reset();                              // Ctrl-X, waits for the banner
   bool wait_idle(double timeout_s);          // polls '?' until Idle and the planner is empty

@@ -126,7 +126,7 @@ TEST_CASE("grbl firmware: settings, a job sent line by line, and what the logs p
   const std::string job =
       "G21\nG90\nM5\nG0 X10 Y10\nM3 S1000\nG4 P0.15\nG1 X110 Y10 F3000\nG1 X110 Y30\nM5\nG4 P0.15\n"
       "G0 X50 Y50\nM3 S1000\nG4 P0.15\nM5\nG4 P0.15\nG0 X0 Y0\n";
-  for (const std::string& l : gcode_lines(job)) REQUIRE(fw.command(l).back() == "ok");
+  for (const std::string& reply : fw.stream(gcode_lines(job))) REQUIRE(reply == "ok");
   REQUIRE(fw.wait_idle(30));
   FirmwareRecord rec = fw.record();
   REQUIRE(rec.sessions.size() == 1);
@@ -198,7 +198,7 @@ TEST_CASE("grbl firmware: the block log and plot times do not depend on the -t t
     FirmwareOptions o = GrblFirmware::with_settings("grbl-servo");
     o.timescale = t;
     GrblFirmware fw(o);
-    for (const std::string& l : gcode_lines(job)) REQUIRE(fw.command(l).back() == "ok");
+    for (const std::string& reply : fw.stream(gcode_lines(job))) REQUIRE(reply == "ok");
     REQUIRE(fw.wait_idle(30));
     runs.push_back(fw.record().sessions.at(0));
   }
