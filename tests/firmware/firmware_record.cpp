@@ -51,6 +51,7 @@ bool on_segment(Steps p, Steps a, Steps b) {
 // Which block each step-log line lies on: the planned path is followed forward only (a
 // line may skip short blocks; a point the path passes twice is taken at the earlier pass
 // until a later line shows otherwise). -1: on no block within reach.
+// O(lines x 2000) at worst, O(lines + blocks) when every line lies on the path.
 std::vector<long> align_lines(const std::vector<ExecutedBlock>& b, size_t first, size_t last, const std::vector<StepLine>& l,
                               size_t lo, size_t hi) {
   std::vector<long> at(hi - lo, -1);
@@ -217,6 +218,7 @@ void find_rests(SessionRecord& r, size_t first, size_t last, size_t lo, size_t h
 
 }  // namespace
 
+// O(blocks + step-log lines), the alignment aside.
 SessionRecord build_session(const BlockLog& bl, const StepLog& sl, const MachineSettings& s, bool power_cut,
                             double cut_idle_wall_s) {
   SessionRecord r;
@@ -268,6 +270,37 @@ std::string where(const SessionRecord& s, size_t line, const HostLine& l) {
 }
 
 Steps plus(Steps a, Steps o) { return {a.x + o.x, a.y + o.y, a.z + o.z}; }
+
+std::string str(Steps p) { return std::to_string(p.x) + "," + std::to_string(p.y) + "," + std::to_string(p.z); }
+
+// The block grbl planned for a move must start and end where the line does, and carry the
+// pen state (servo: spindle flags and S) the line ran with.
+void check_block(const ExecutedBlock& b, size_t index, const LineEffect& e, bool pen_down, const PenRule& rule,
+                 const std::string& at, Interpretation& out) {
+  if (!(b.start == e.from) || !(b.planned.end == e.to))
+    out.inconsistencies.push_back(at + ": block " + std::to_string(index) + " runs " + str(b.start) + " to " +
+                                  str(b.planned.end) + ", the line " + str(e.from) + " to " + str(e.to));
+  if (rule.kind == PenRule::Kind::Servo && (b.planned.spindle_on() && b.planned.spindle > rule.servo_up_s) != pen_down)
+    out.inconsistencies.push_back(at + ": the block's spindle flags disagree with the pen state");
+}
+
+// Each time the planner ran dry with more to come: at a line that makes grbl empty it, or
+// starved (the next move had not arrived).
+void classify_rests(const SessionRecord& s, const std::vector<bool>& sync_after, Interpretation& out) {
+  size_t last_sync = 0;
+  for (const RestEvent& rest : s.rests) {
+    if (rest.block >= sync_after.size()) continue;
+    if (sync_after[rest.block]) {
+      ++out.rests_at_sync;
+      last_sync = rest.block + 1;
+    } else {
+      const double still = rest.full_stop ? std::max(0.0, rest.t_resume - rest.t_stop) : 0.0;
+      ++out.rests_starved;
+      out.starved_s += still;
+      out.starved.push_back({s.index, rest.block, rest.block + 1 - last_sync, still});
+    }
+  }
+}
 
 // One session: the lines grbl answered, in order, each move paired with the next block
 // grbl planned (grbl plans exactly one block per move of at least one step).
@@ -328,13 +361,7 @@ void interpret_session(const FirmwareRecord& r, const SessionRecord& s, const Pe
         continue;
       }
       const ExecutedBlock& b = s.blocks[cursor];
-      if (!(b.start == e.from) || !(b.planned.end == e.to))
-        out.inconsistencies.push_back(where(s, ev.line, l) + ": block " + std::to_string(cursor) + " ends at " +
-                                      std::to_string(b.planned.end.x) + "," + std::to_string(b.planned.end.y) + "," +
-                                      std::to_string(b.planned.end.z) + ", the line at " + std::to_string(e.to.x) + "," +
-                                      std::to_string(e.to.y) + "," + std::to_string(e.to.z));
-      if (rule.kind == PenRule::Kind::Servo && (b.planned.spindle_on() && b.planned.spindle > rule.servo_up_s) != g.pen_down())
-        out.inconsistencies.push_back(where(s, ev.line, l) + ": the block's spindle flags disagree with the pen state");
+      check_block(b, cursor, e, g.pen_down(), rule, where(s, ev.line, l), out);
       block_line[cursor] = static_cast<long>(ev.line);
       if (b.run != ExecutedBlock::Run::NotRun) {
         pen.move(b.start, b.stop, b.run == ExecutedBlock::Run::Complete);
@@ -349,19 +376,7 @@ void interpret_session(const FirmwareRecord& r, const SessionRecord& s, const Pe
     out.inconsistencies.push_back("session " + std::to_string(s.index) + ": fewer banners than reset lines in the block log");
   flush_marks();
   out.marks.insert(out.marks.end(), marks.begin(), marks.end());
-  size_t last_sync = 0;
-  for (const RestEvent& rest : s.rests) {
-    if (rest.block >= sync_after.size()) continue;
-    if (sync_after[rest.block]) {
-      ++out.rests_at_sync;
-      last_sync = rest.block + 1;
-    } else {
-      const double still = rest.full_stop ? std::max(0.0, rest.t_resume - rest.t_stop) : 0.0;
-      ++out.rests_starved;
-      out.starved_s += still;
-      out.starved.push_back({s.index, rest.block, rest.block + 1 - last_sync, still});
-    }
-  }
+  classify_rests(s, sync_after, out);
   out.block_line.push_back(std::move(block_line));
 }
 

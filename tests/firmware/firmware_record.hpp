@@ -70,7 +70,7 @@ struct BlockLog {
   std::vector<std::vector<PlannedBlock>> epochs;  // epochs[i]: blocks planned after resets[i]
   size_t rx_drops = 0;
 };
-BlockLog parse_block_log(const std::string& text);
+BlockLog parse_block_log(const std::string& text);  // O(text)
 
 // ---- step log ----
 struct StepLine {
@@ -165,6 +165,7 @@ struct Interpretation {
   std::vector<Starved> starved;
 };
 // `offsets[i]`: where session i's machine zero lies (power cuts: 0 = re-zeroed at the origin).
+// O(lines + blocks).
 Interpretation interpret(const FirmwareRecord& r, const PenRule& rule, const std::vector<Steps>& offsets = {});
 
 // The firmware's time for the job of `session` (last session with blocks if -1), in

@@ -115,6 +115,53 @@ bool GcodeInterpreter::pen_down() const {
   return spindle_ != 0 && s_ > rule_.servo_up_s;
 }
 
+namespace {
+
+// The words of one line, as grbl's parser groups them (gcode.c, modal groups).
+struct ParsedLine {
+  int motion = -1, spindle = -1, flow = -1;  // G0/G1; M3/M4/M5; 0 pause, 2 end
+  int inches = -1, absolute = -1;            // G20/G21, G90/G91; -1 not given
+  bool dwell = false, have_s = false, have_axis[3] = {false, false, false};
+  double p = 0, s = 0, axis[3] = {0, 0, 0};
+};
+
+ParsedLine parse_words(const std::string& l, const std::string& raw) {
+  ParsedLine x;
+  for (const Word& w : words_of(l, raw)) {
+    const long code10 = std::lround(w.value * 10);
+    switch (w.letter) {
+      case 'G':
+        if (code10 == 0 || code10 == 10) x.motion = static_cast<int>(code10 / 10);
+        else if (code10 == 40) x.dwell = true;
+        else if (code10 == 200 || code10 == 210) x.inches = code10 == 200;
+        else if (code10 == 900 || code10 == 910) x.absolute = code10 == 900;
+        else if (code10 == 170 || code10 == 940 || code10 == 540 || code10 == 400 || code10 == 490 || code10 == 800 ||
+                 code10 == 610)
+          ;  // plane XY, units/min feed, G54, no cutter/tool-length compensation, cancel canned cycle, exact path
+        else throw std::runtime_error("G-code `" + raw + "`: G" + std::to_string(code10 / 10.0) + " is not modelled");
+        break;
+      case 'M':
+        if (code10 == 0 || code10 == 10) x.flow = 0;
+        else if (code10 == 20 || code10 == 300) x.flow = 2;
+        else if (code10 == 30 || code10 == 40 || code10 == 50) x.spindle = static_cast<int>(code10 / 10);
+        else if (code10 == 70 || code10 == 80 || code10 == 90) ;  // coolant: no effect on the pen
+        else throw std::runtime_error("G-code `" + raw + "`: M" + std::to_string(code10 / 10) + " is not modelled");
+        break;
+      case 'X': case 'Y': case 'Z':
+        x.have_axis[w.letter - 'X'] = true;
+        x.axis[w.letter - 'X'] = w.value;
+        break;
+      case 'S': x.have_s = true; x.s = w.value; break;
+      case 'P': x.p = w.value; break;
+      case 'F': case 'N': case 'T': break;
+      default: throw std::runtime_error("G-code `" + raw + "`: word " + std::string(1, w.letter) + " is not modelled");
+    }
+  }
+  return x;
+}
+
+}  // namespace
+
 // Applies grbl's order of execution (gcode.c): spindle speed and state, dwell, units and
 // distance mode, the move, then program flow.
 LineEffect GcodeInterpreter::feed(const std::string& raw) {
@@ -129,81 +176,46 @@ LineEffect GcodeInterpreter::feed(const std::string& raw) {
     }
     return e;
   }
-  int motion = -1, spindle = -1, flow = -1;
-  bool dwell = false, have_s = false, have_axis[3] = {false, false, false};
-  double p = 0, s = 0, axis[3] = {0, 0, 0};
-  bool inches = inches_, absolute = absolute_;
-  for (const Word& w : words_of(l, raw)) {
-    const long code10 = std::lround(w.value * 10);
-    switch (w.letter) {
-      case 'G':
-        if (code10 == 0 || code10 == 10) motion = static_cast<int>(code10 / 10);
-        else if (code10 == 40) dwell = true;
-        else if (code10 == 200 || code10 == 210) inches = code10 == 200;
-        else if (code10 == 900 || code10 == 910) absolute = code10 == 900;
-        else if (code10 == 170 || code10 == 940 || code10 == 540 || code10 == 400 || code10 == 490 || code10 == 800 ||
-                 code10 == 610)
-          ;  // plane XY, units/min feed, G54, no cutter/tool-length compensation, cancel canned cycle, exact path
-        else throw std::runtime_error("G-code `" + raw + "`: G" + std::to_string(code10 / 10.0) + " is not modelled");
-        break;
-      case 'M':
-        if (code10 == 0 || code10 == 10) flow = 0;
-        else if (code10 == 20 || code10 == 300) flow = 2;
-        else if (code10 == 30 || code10 == 40 || code10 == 50) spindle = static_cast<int>(code10 / 10);
-        else if (code10 == 70 || code10 == 80 || code10 == 90) ;  // coolant: no effect on the pen
-        else throw std::runtime_error("G-code `" + raw + "`: M" + std::to_string(code10 / 10) + " is not modelled");
-        break;
-      case 'X': case 'Y': case 'Z': {
-        int i = w.letter - 'X';
-        have_axis[i] = true;
-        axis[i] = w.value;
-        break;
-      }
-      case 'S': have_s = true; s = w.value; break;
-      case 'P': p = w.value; break;
-      case 'F': case 'N': case 'T': break;
-      default: throw std::runtime_error("G-code `" + raw + "`: word " + std::string(1, w.letter) + " is not modelled");
-    }
-  }
-  inches_ = inches;
-  absolute_ = absolute;
-  if (motion >= 0) rapid_ = motion == 0;
-  const bool any_axis = have_axis[0] || have_axis[1] || have_axis[2];
+  const ParsedLine x = parse_words(l, raw);
+  if (x.inches >= 0) inches_ = x.inches == 1;
+  if (x.absolute >= 0) absolute_ = x.absolute == 1;
+  if (x.motion >= 0) rapid_ = x.motion == 0;
+  const bool any_axis = x.have_axis[0] || x.have_axis[1] || x.have_axis[2];
   if (check_mode_) {  // parsed, state kept, nothing runs
     for (int i = 0; i < 3; ++i)
-      if (have_axis[i]) target_mm_[i] = (absolute_ ? 0 : target_mm_[i]) + axis[i] * (inches_ ? 25.4 : 1);
-    if (have_s) s_ = s;
-    if (spindle >= 0) spindle_ = spindle == 5 ? 0 : spindle;
+      if (x.have_axis[i]) target_mm_[i] = (absolute_ ? 0 : target_mm_[i]) + x.axis[i] * (inches_ ? 25.4 : 1);
+    if (x.have_s) s_ = x.s;
+    if (x.spindle >= 0) spindle_ = x.spindle == 5 ? 0 : x.spindle;
     return e;
   }
   const bool was_down = pen_down();
-  if (have_s && s != s_) {
+  if (x.have_s && x.s != s_) {
     if (spindle_ != 0) e.spindle_change = true;
-    s_ = s;
+    s_ = x.s;
   }
-  if (spindle >= 0) {
-    int next = spindle == 5 ? 0 : spindle;
+  if (x.spindle >= 0) {
+    int next = x.spindle == 5 ? 0 : x.spindle;
     if (next != spindle_) e.spindle_change = true;
     spindle_ = next;
   }
   if (rule_.kind == PenRule::Kind::Servo && pen_down() != was_down) e.pen_before = pen_down() ? 1 : 0;
-  if (dwell) e.dwell_s = p;
+  if (x.dwell) e.dwell_s = x.p;
   if (any_axis) {
     e.motion = true;
     e.rapid = rapid_;
     e.from = pos_;
     long st[3] = {pos_.x, pos_.y, pos_.z};
     for (int i = 0; i < 3; ++i) {
-      if (!have_axis[i]) continue;
-      double mm = axis[i] * (inches_ ? 25.4 : 1);
+      if (!x.have_axis[i]) continue;
+      double mm = x.axis[i] * (inches_ ? 25.4 : 1);
       target_mm_[i] = absolute_ ? mm : target_mm_[i] + mm;
       st[i] = to_steps(target_mm_[i], set_.steps_per_mm[i]);
     }
     pos_ = {st[0], st[1], st[2]};
     e.to = pos_;
   }
-  if (flow == 0) e.pause = true;
-  if (flow == 2) {  // program end resets G1, G90, M5 (gcode.c)
+  if (x.flow == 0) e.pause = true;
+  if (x.flow == 2) {  // program end resets G1, G90, M5 (gcode.c)
     e.program_end = true;
     rapid_ = false;
     absolute_ = true;
@@ -214,7 +226,7 @@ LineEffect GcodeInterpreter::feed(const std::string& raw) {
       if (rule_.kind == PenRule::Kind::Servo && before) e.pen_after = 0;
     }
   }
-  e.sync = e.spindle_change || dwell || flow >= 0;
+  e.sync = e.spindle_change || x.dwell || x.flow >= 0;
   return e;
 }
 

@@ -18,7 +18,8 @@ inline nlohmann::json last_json(const std::string& out) {
   if (end == std::string::npos) return {};
   auto start = out.rfind('\n', end);
   try {
-    return nlohmann::json::parse(out.substr(start == std::string::npos ? 0 : start + 1, end + 1 - (start == std::string::npos ? 0 : start + 1)));
+    const size_t from = start == std::string::npos ? 0 : start + 1;
+    return nlohmann::json::parse(out.substr(from, end + 1 - from));
   } catch (const nlohmann::json::exception&) {
     return {};
   }
@@ -47,14 +48,16 @@ inline Job export_job(const std::string& svg, const std::string& profile, const 
   return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};
 }
 
-// `stipplot stipple examples/horse.png` on a small page: -a 60 -b 100 gives 14 dots.
-inline Job dots_job(const std::string& profile, const std::string& out, const std::string& extra = "--page 30x25mm --margin 2 -a 60 -b 100") {
+// `stipplot stipple examples/horse.png` on a small page: -a 80 -b 120 gives 9 dots.
+inline Job dots_job(const std::string& profile, const std::string& out,
+                    const std::string& extra = "--page 30x25mm --margin 2 -a 80 -b 120") {
   auto r = test::run_cli("stipple " + example("horse.png") + " " + extra + " --profile " + profile + " -o " + out + " --json");
   if (r.exit_code != 0) throw std::runtime_error("stipplot stipple failed: " + r.err);
   return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};
 }
 
-inline Job tree_job(const std::string& profile, const std::string& out, const std::string& extra = "--page 40x30mm --margin 2 -a 15 -b 40") {
+inline Job tree_job(const std::string& profile, const std::string& out,
+                    const std::string& extra = "--page 40x30mm --margin 2 -a 25 -b 40") {
   auto r = test::run_cli("tree " + example("horse.png") + " " + extra + " --profile " + profile + " -o " + out + " --json");
   if (r.exit_code != 0) throw std::runtime_error("stipplot tree failed: " + r.err);
   return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};

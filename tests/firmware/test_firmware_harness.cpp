@@ -124,7 +124,7 @@ TEST_CASE("grbl firmware: settings, a job sent line by line, and what the logs p
   CHECK(std::find(dump.begin(), dump.end(), "$110=9000.000") != dump.end());
   CHECK(std::find(dump.begin(), dump.end(), "$120=1000.000") != dump.end());
   const std::string job =
-      "G21\nG90\nM5\nG0 X10 Y10\nM3 S1000\nG4 P0.15\nG1 X110 Y10 F3000\nG1 X110 Y30\nM5\nG4 P0.15\n"
+      "G21\nG90\nM5\nG0 X10 Y10\nM3 S1000\nG4 P0.15\nG1 X60 Y10 F3000\nG1 X60 Y30\nM5\nG4 P0.15\n"
       "G0 X50 Y50\nM3 S1000\nG4 P0.15\nM5\nG4 P0.15\nG0 X0 Y0\n";
   for (const std::string& reply : fw.stream(gcode_lines(job))) REQUIRE(reply == "ok");
   REQUIRE(fw.wait_idle(30));
@@ -141,16 +141,17 @@ TEST_CASE("grbl firmware: settings, a job sent line by line, and what the logs p
   CHECK(jc.marks.exact());
   CHECK(jc.marks.expected_dots == 1);
   CHECK(jc.marks.drawn_segments == 2);
-  // grbl's kinematics: 100 mm from rest to rest at 50 mm/s, 1000 mm/s^2 = L/v + v/a.
+  // grbl's kinematics: a move of L mm from rest to rest at 50 mm/s, 1000 mm/s^2 takes L/v + v/a.
   const ExecutedBlock& line = s.blocks[1];
   CHECK(line.rest_after == false);  // the next move was already planned: a corner, not a stop
   const ExecutedBlock& corner = s.blocks[2];
+  REQUIRE(line.t_start > 0);
   REQUIRE(corner.t_end > 0);
   double drawn = corner.t_end - line.t_start;
-  // Both moves as one 120 mm trapezoid give a lower bound; the corner (90 degrees,
+  // Both moves as one 70 mm trapezoid give a lower bound; the corner (90 degrees,
   // junction deviation 0.01) nearly stops: at most the two moves' rest-to-rest times.
-  CHECK(drawn > 120.0 / 50 + 50.0 / 1000 - 0.01);
-  CHECK(drawn < 100.0 / 50 + 50.0 / 1000 + 20.0 / 50 + 50.0 / 1000 + 0.01);
+  CHECK(drawn > 70.0 / 50 + 50.0 / 1000 - 0.01);
+  CHECK(drawn < 50.0 / 50 + 50.0 / 1000 + 20.0 / 50 + 50.0 / 1000 + 0.01);
   // Pen changes make grbl empty its planner: every rest is at one.
   CHECK(jc.firmware.rests_starved == 0);
   CHECK(jc.firmware.rests_at_sync >= 3);
