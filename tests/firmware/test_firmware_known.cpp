@@ -131,7 +131,8 @@ TEST_CASE("firmware known: resume after a dropped link or a power cut loses or d
 }
 
 // ~2,500 segments of 0.25 mm (curves as a tree drawing or a foreign SVG flattens to),
-// streamed at 115200 baud: does grbl's planner run dry?
+// streamed at 115200 baud: does grbl's planner run dry? The same job as
+// bench/bench_streaming.cpp runs on stipplot's own simulator, so the figures compare.
 TEST_CASE("firmware known: streaming 2,500 short segments keeps grbl's planner fed", "[.firmware-known]") {
   test::TempDir t;
   std::string g = "G21\nG90\nM5\n";
