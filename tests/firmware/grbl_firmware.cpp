@@ -247,6 +247,10 @@ struct GrblFirmware::Impl {
   bool wait_for(std::unique_lock<std::mutex>& lk, double timeout_s, Pred p) {
     return cv.wait_for(lk, std::chrono::duration<double>(timeout_s), p);
   }
+  // A client that has just exited: the relay notices the hang-up within a few ms.
+  void wait_client_gone(std::unique_lock<std::mutex>& lk) {
+    wait_for(lk, 1, [&] { return !(b >= 0 && b_open); });
+  }
 };
 
 // ---- the relay thread ----
@@ -688,6 +692,7 @@ bool GrblFirmware::cut_done() const {
 std::vector<std::string> GrblFirmware::command(const std::string& line, double timeout_s) {
   Impl& I = *impl_;
   std::unique_lock<std::mutex> lk(I.mu);
+  I.wait_client_gone(lk);
   const size_t from = I.device.size();
   const size_t i = I.send_locked(line);
   if (!I.wait_for(lk, timeout_s, [&] { return I.lines[i].reply != HostLine::Reply::None; }))
@@ -703,6 +708,7 @@ std::vector<std::string> GrblFirmware::command(const std::string& line, double t
 std::vector<std::string> GrblFirmware::stream(const std::vector<std::string>& lines, double timeout_s) {
   Impl& I = *impl_;
   std::unique_lock<std::mutex> lk(I.mu);
+  I.wait_client_gone(lk);
   auto end = Clock::now() + std::chrono::duration<double>(timeout_s);
   std::vector<size_t> sent;
   std::vector<std::string> replies;
@@ -724,6 +730,7 @@ std::vector<std::string> GrblFirmware::stream(const std::vector<std::string>& li
 std::string GrblFirmware::status(double timeout_s) {
   Impl& I = *impl_;
   std::unique_lock<std::mutex> lk(I.mu);
+  I.wait_client_gone(lk);
   if (I.a < 0) throw std::runtime_error("the firmware is not running");
   if (I.b >= 0 && I.b_open) throw std::runtime_error("a client has the port open: the harness cannot talk to grbl now");
   const size_t from = I.device.size();
