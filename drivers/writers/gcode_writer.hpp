@@ -5,6 +5,7 @@
 // M0 pause with a message at every pen change. Coordinates are in machine space (origin,
 // axis signs and offset from the profile) rounded to the profile's resolution; a plan
 // that leaves the travel is refused before the first line is produced.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,10 @@ namespace stipplot {
 
 struct GcodeOptions {
   bool comments = true;  // ';' comments naming the job and layers
+  // Optional observers, for timing what is written: every line as it is written, and
+  // the start of each layer (before its pen change).
+  LineSink also;
+  std::function<void(size_t layer)> on_layer;
 };
 
 // Calls `sink` with each line in order. O(total points) time, O(1) extra memory.

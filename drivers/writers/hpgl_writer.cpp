@@ -26,8 +26,12 @@ void check_protocol(const Plan& plan, const DeviceProfile& profile) {
 
 }  // namespace
 
-void write_hpgl(const Plan& plan, const DeviceProfile& profile, const LineSink& sink) {
+void write_hpgl(const Plan& plan, const DeviceProfile& profile, const LineSink& out, const HpglOptions& opt) {
   check_protocol(plan, profile);
+  const LineSink sink = !opt.also ? out : LineSink([&](std::string_view l) {
+    out(l);
+    opt.also(l);
+  });
   MachineTransform t(profile, plan.page);
   const size_t chunk = static_cast<size_t>(std::max(1, profile.hpgl.max_points_per_command));
   sink("IN;");
@@ -42,6 +46,7 @@ void write_hpgl(const Plan& plan, const DeviceProfile& profile, const LineSink& 
   }
   std::string cmd;
   for (size_t li = 0; li < plan.layers.size(); ++li) {
+    if (opt.on_layer) opt.on_layer(li);
     sink("SP" + std::to_string(profile.pen_for_layer(li)) + ";");
     for (const auto& s : plan.layers[li].strokes) {
       if (s.pts.empty()) continue;
@@ -80,10 +85,10 @@ std::vector<std::string> hpgl_commands(const Plan& plan, const DeviceProfile& pr
   return out;
 }
 
-void write_hpgl_file(const Plan& plan, const DeviceProfile& profile, const std::string& path) {
+void write_hpgl_file(const Plan& plan, const DeviceProfile& profile, const std::string& path, const HpglOptions& opt) {
   check_protocol(plan, profile);  // before the file is created
   write_lines_atomic(
-      path, [&](const LineSink& sink) { write_hpgl(plan, profile, sink); }, profile.serial.newline ? "\n" : "");
+      path, [&](const LineSink& sink) { write_hpgl(plan, profile, sink, opt); }, profile.serial.newline ? "\n" : "");
 }
 
 }  // namespace stipplot

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "cli/job_estimate.hpp"
 #include "drivers/writers/gcode_writer.hpp"
 #include "drivers/writers/hpgl_writer.hpp"
 #include "drivers/device/machine.hpp"
@@ -102,10 +103,11 @@ void write_planned_output(const Drawing& d, const std::string& path, const std::
   Plan plan = plan_drawing(d, po);
   double plan_s = seconds_since(t0);
   auto t1 = std::chrono::steady_clock::now();
+  JobEstimate timed(prof);  // the written lines' own time, not the plan's
   if (kind == OutputKind::gcode) {
-    write_gcode_file(plan, prof, path);
+    write_gcode_file(plan, prof, path, timed.gcode_options());
   } else if (kind == OutputKind::hpgl) {
-    write_hpgl_file(plan, prof, path);
+    write_hpgl_file(plan, prof, path, timed.hpgl_options());
   } else {
     // the planned order is only checked against the device when it goes to one
     PlannedSvgOptions so;
@@ -115,6 +117,7 @@ void write_planned_output(const Drawing& d, const std::string& path, const std::
   summary["output"] = path;
   summary["profile"] = prof.name;
   summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin));
+  if (kind != OutputKind::svg) timed.apply(summary["plan"]);
   summary["seconds_plan"] = plan_s;
   summary["seconds_write"] = seconds_since(t1);
 }

@@ -160,8 +160,7 @@ TEST_CASE("ALARM stops, explains, and leaves the port usable", "[drivers][grbl][
 TEST_CASE("soft limits raise ALARM:2, settings check refuses a job beyond them", "[drivers][grbl][faults]") {
   sim::GrblSimConfig c = fast_config();
   c.soft_limits = true;
-  c.travel_x = 50;
-  c.travel_y = 50;
+  c.travel = {50, 50, 50};
   Run r = open_pty(c);
   Job job = small_job(7, 10);  // reaches beyond 50 mm
   grbl::Streamer st(*r.port, {});
