@@ -122,7 +122,11 @@ double PathImprover::try_2opt(uint32_t a) {
       const uint32_t d = succ(c, fwd);
       if (c == b || d == a || fixed(c, d)) return true;
       const double g = g1 + dist(c, d) - dist(b, d);
-      if (g <= kEps || reversal_length(b, c) > max_reversal_) return true;
+      if (g <= kEps) return true;
+      if (reversal_length(b, c) > max_reversal_) {
+        capped_out_ = true;
+        return true;
+      }
       gain = g, c_best = c, d_best = d;
       return false;
     });
@@ -175,10 +179,15 @@ double PathImprover::try_oropt_from(uint32_t s1, bool fwd) {
         if (in_seg(c)) return true;
         for (const bool after : {true, false}) {  // insert between c and its successor, or its predecessor and c
           const uint32_t x = after ? c : succ(c, !fwd), y = after ? succ(c, fwd) : c;
-          if (in_seg(x) || in_seg(y) || fixed(x, y) || reversal_length(s1, x) > max_reversal_) continue;
+          if (in_seg(x) || in_seg(y) || fixed(x, y)) continue;
           const double base = removed + dist(x, y);
           const double g_keep = base - dist(x, s1) - dist(s2, y);
           const double g_flip = base - dist(x, s2) - dist(s1, y);
+          if (std::max(g_keep, g_flip) <= best) continue;
+          if (reversal_length(s1, x) > max_reversal_) {
+            capped_out_ = true;
+            continue;
+          }
           if (g_keep > best) best = g_keep, bx = x, by = y, brev = false;
           if (g_flip > best) best = g_flip, bx = x, by = y, brev = true;
         }
@@ -208,12 +217,14 @@ double PathImprover::drain_queue(Clock::time_point cap, ImproveStats& st) {
     --count_;
     queued_[a] = 0;
     touched_.clear();
+    capped_out_ = false;
     double g = try_2opt(a);
     if (g > 0) {
       ++st.moves_2opt;
     } else if ((g = try_oropt(a)) > 0) {
       ++st.moves_oropt;
     } else {
+      if (capped_out_) deferred_.push_back(a);
       continue;
     }
     total += g;
@@ -224,24 +235,30 @@ double PathImprover::drain_queue(Clock::time_point cap, ImproveStats& st) {
 }
 
 void PathImprover::local_search(Clock::time_point cap, ImproveStats& st) {
-  double gain = 0;
   // In stages of growing reversal caps: the cheap local fixes first, so the long moves
   // left for the last, uncapped stage are fewer (a third of the reversal work at 1M
-  // nodes, and a slightly better optimum).
-  for (const uint32_t limit : {kStageReversals[0], kStageReversals[1], UINT32_MAX}) {
-    if (limit != UINT32_MAX && 2 * static_cast<uint64_t>(limit) >= N_) continue;
+  // nodes, and a slightly better optimum). A stage re-examines only the nodes whose best
+  // move the previous one's cap refused.
+  double gain = 0;
+  for (const uint32_t v : tour_) push(v);
+  for (const uint32_t limit : kStageReversals) {
+    if (2 * static_cast<uint64_t>(limit) >= N_) break;
     max_reversal_ = limit;
-    // The queue re-examines only the ends of applied moves, though a move also changes
-    // what nodes that have those ends as candidates can do: the last stage passes over
-    // every node again while a pass still finds at least one move per kPassYield nodes
-    // (on strokes the first pass leaves some 4 % of the travel to gain, on dots 0.2 %).
-    for (int pass = 0; pass < kMaxPasses && !st.capped; ++pass) {
-      const long before = st.moves_2opt + st.moves_oropt;
-      for (const uint32_t v : tour_) push(v);
-      gain += drain_queue(cap, st);
-      if (limit != UINT32_MAX || (st.moves_2opt + st.moves_oropt - before) * kPassYield < N_) break;
-    }
-    if (st.capped) break;
+    gain += drain_queue(cap, st);
+    for (const uint32_t v : deferred_) push(v);
+    deferred_.clear();
+  }
+  max_reversal_ = UINT32_MAX;
+  gain += drain_queue(cap, st);
+  // The queue re-examines only the ends of applied moves, though a move also changes
+  // what nodes that have those ends as candidates can do: passes over every node follow
+  // while a pass still finds at least one move per kPassYield nodes (on strokes the
+  // first pass leaves some 4 % of the travel to gain, on dots 0.2 %).
+  for (int pass = 0; pass < kMaxPasses && !st.capped; ++pass) {
+    const long before = st.moves_2opt + st.moves_oropt;
+    for (const uint32_t v : tour_) push(v);
+    gain += drain_queue(cap, st);
+    if ((st.moves_2opt + st.moves_oropt - before) * kPassYield < N_) break;
   }
   st.gain += gain;
   st.reversed = reversed_;
@@ -254,6 +271,7 @@ void PathImprover::perturb(long kicks, uint64_t seed, Clock::time_point cap, Imp
   auto at = [&](uint32_t i) { return tour_[i % N_]; };
   logging_ = true;
   max_reversal_ = kKickReversals;
+  deferred_.clear();
   for (long t = 0; t < kicks && !st.capped; ++t) {
     if ((t & 15) == 0 && Clock::now() > cap) {
       st.capped = true;
@@ -278,6 +296,7 @@ void PathImprover::perturb(long kicks, uint64_t seed, Clock::time_point cap, Imp
     ++st.kicks;
     for (const uint32_t v : {a, b, c, d, e, f}) push(v);
     const double gain = drain_queue(cap, st);
+    deferred_.clear();  // a kick's refused long moves are not pursued
     if (!st.capped && gain - cost > kEps) {
       ++st.kicks_kept;
       st.gain += gain - cost;

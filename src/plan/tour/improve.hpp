@@ -80,6 +80,8 @@ class PathImprover {
   std::vector<std::pair<uint32_t, uint32_t>> log_;
   long long reversed_ = 0;
   uint32_t max_reversal_ = UINT32_MAX;  // moves that would reverse more are not taken
+  bool capped_out_ = false;             // the node's best move was refused for its reversal
+  std::vector<uint32_t> deferred_;      // such nodes, for the next stage
   uint64_t check_ = 0;
 };
 
