@@ -11,6 +11,7 @@
 
 #include "drivers/device/machine.hpp"
 #include "drivers/device/profile.hpp"
+#include "image/image.hpp"
 #include "methods/stipple/stipple.hpp"
 #include "previous_tour.hpp"
 #include "drivers/motion/time_model.hpp"
@@ -248,6 +249,40 @@ static void BM_PlanStipple(benchmark::State& state) {
   state.counters["plan_to_stipple_time"] = plan_s / stipple_s;
 }
 BENCHMARK(BM_PlanStipple)->Arg(1530)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// The Hubble deep field stippled as `stipplot stipple hubble_deep_field.jpg -a 1.2 -b 4
+// -o x.gcode` does (216k dots on A4), planned from the grbl-servo home: pen-up travel /
+// EMST for the planner and, in the same process, the previous planner (whose 2 s
+// wall-clock budget gave 1.089 on a quiet machine and 1.21-1.26 under load).
+static void BM_PlanHubbleStipple(benchmark::State& state) {
+  const Image img = load_image(std::string(STIPPLOT_SHARED_DIR) + "/images/hubble_deep_field.jpg");
+  StippleParams sp;
+  sp.a = 1.2;
+  sp.b = 4;
+  const Drawing d = stipple(img, sp, Placement{});
+  PlanOptions opt;
+  opt.origin = MachineTransform(find_profile("grbl-servo"), d.page).page_position_of_machine_zero();
+  Plan p;
+  double cpu = 0;
+  for (auto _ : state) {
+    Timer t;
+    p = plan_drawing(d, opt);
+    cpu = t.cpu_s();
+  }
+  std::vector<Vec2> pts;
+  for (const Dot& dot : d.layers.at(0).dots) pts.push_back(dot.c);
+  const std::vector<int32_t> partner(pts.size(), -1);
+  const double mst = spatial::total_cost(spatial::euclidean_mst(pts));
+  Timer tp;
+  const double previous = plan::tour_travel(pts, partner, opt.origin,
+                                            bench::previous::previous_tour(pts, partner, opt.origin, 2.0));
+  state.counters["dots"] = static_cast<double>(pts.size());
+  state.counters["ratio_planned_to_emst"] = pen_up_travel(p, opt.origin) / mst;
+  state.counters["ratio_previous_to_emst"] = previous / mst;
+  state.counters["plan_cpu_s"] = cpu;
+  state.counters["previous_cpu_s"] = tp.cpu_s();
+}
+BENCHMARK(BM_PlanHubbleStipple)->Unit(benchmark::kMillisecond)->Iterations(1);
 
 // The motion model alone on a long plan (many short strokes): blocks per second.
 static void BM_EstimateSeconds(benchmark::State& state) {
