@@ -87,6 +87,18 @@ Drawing dots_drawing(const std::vector<Vec2>& pts) {
   return d;
 }
 
+// plan_drawing under the benchmark's loop (one iteration), with its CPU seconds.
+Plan timed_plan(benchmark::State& state, const Drawing& d, const PlanOptions& opt, double& cpu,
+                PlanInfo* info = nullptr) {
+  Plan p;
+  for (auto _ : state) {
+    Timer t;
+    p = plan_drawing(d, opt, info);
+    cpu = t.cpu_s();
+  }
+  return p;
+}
+
 }  // namespace
 
 // The planner on n uniform random dots, as the commands run it (default options:
@@ -99,15 +111,10 @@ static void BM_PlanUniformDots(benchmark::State& state) {
   const size_t n = static_cast<size_t>(state.range(0));
   const Instance& in = uniform_instance(n);
   const Drawing d = dots_drawing(in.pts);
-  double planned = 0, wall = 0, cpu = 0;
+  double cpu = 0;
   PlanInfo info;
-  for (auto _ : state) {
-    Timer t;
-    const Plan p = plan_drawing(d, PlanOptions{}, &info);
-    wall = t.wall_s();
-    cpu = t.cpu_s();
-    planned = pen_up_travel(p);
-  }
+  const double planned = pen_up_travel(timed_plan(state, d, PlanOptions{}, cpu, &info));
+  const double wall = info.seconds;
   plan::TourOptions nn;
   nn.start = plan::TourStart::NearestNeighbour;
   nn.improve = false;
@@ -188,13 +195,8 @@ static void BM_Plan7kLines(benchmark::State& state) {
       }
     return s;
   };
-  Plan p;
   double cpu = 0;
-  for (auto _ : state) {
-    Timer t;
-    p = plan_drawing(d, opt);
-    cpu = t.cpu_s();
-  }
+  const Plan p = timed_plan(state, d, opt, cpu);
   PlanOptions nn = opt;
   nn.optimize_seconds = 0;
   size_t strokes = 0;
@@ -262,13 +264,8 @@ static void BM_PlanHubbleStipple(benchmark::State& state) {
   const Drawing d = stipple(img, sp, Placement{});
   PlanOptions opt;
   opt.origin = MachineTransform(find_profile("grbl-servo"), d.page).page_position_of_machine_zero();
-  Plan p;
   double cpu = 0;
-  for (auto _ : state) {
-    Timer t;
-    p = plan_drawing(d, opt);
-    cpu = t.cpu_s();
-  }
+  const Plan p = timed_plan(state, d, opt, cpu);
   std::vector<Vec2> pts;
   for (const Dot& dot : d.layers.at(0).dots) pts.push_back(dot.c);
   const std::vector<int32_t> partner(pts.size(), -1);
