@@ -21,8 +21,8 @@ PlanOptions PlanArgs::resolve() const {
 
 void add_plan_options(CLI::App* cmd, PlanArgs& a) {
   cmd->add_option("--optimize-effort", a.optimize_effort,
-                  "Work for improving the pen's path: perturbation trials per point after 2-opt/Or-opt; "
-                  "0 = their local optimum only. Same input, same plan, at any machine load")
+                  "Work for improving the pen's path: perturbation trials per point (on at most 300k points) "
+                  "after 2-opt/Or-opt; 0 = their local optimum only. Same input, same plan, at any load")
       ->capture_default_str()
       ->group("Planning");
   cmd->add_option("--optimize-seconds", a.optimize_seconds,
