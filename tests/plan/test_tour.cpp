@@ -184,3 +184,22 @@ TEST_CASE("a wall-clock cap that trips still gives a valid path", "[plan][tour]"
   CHECK(st.capped);
   check_path(s, order);
 }
+
+TEST_CASE("perturbation stops early where its rounds stop paying, the same way every run", "[plan][tour]") {
+  // Long random strokes: a kick's repair needs long reversals (which kicks may not
+  // make on paths this long) and almost never helps.
+  const Nodes lines = random_nodes(60000, 300, 1.0, false, 23);
+  plan::TourOptions opt;
+  opt.kicks = 18000;  // the default effort's
+  plan::TourStats st;
+  const auto order = plan::plan_tour(lines.pts, lines.partner, {0, 0}, opt, &st);
+  check_path(lines, order);
+  CHECK_FALSE(st.capped);
+  CHECK(st.kicks < opt.kicks / 4);
+  CHECK(plan::plan_tour(lines.pts, lines.partner, {0, 0}, opt) == order);
+  // Dots keep paying for the default budget's trials.
+  const Nodes dots = random_nodes(20000, 100, 0, false, 29);
+  opt.kicks = 6000;
+  plan::plan_tour(dots.pts, dots.partner, {0, 0}, opt, &st);
+  CHECK(st.kicks == opt.kicks);
+}

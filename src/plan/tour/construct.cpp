@@ -129,7 +129,10 @@ void join_fragment_ends(const std::vector<Vec2>& pts, Fragments& frag) {
       const uint32_t slot = static_cast<uint32_t>(key);
       frag.link(ends[slot / k], ends[near[slot]]);
     }
-    if (frag.count() == before) break;  // left to the nearest-end walk
+    // A round normally joins most fragments; where it joins few (ends whose nearest
+    // ends are their own fragment's, as among many coincident points) the rest is left
+    // to the nearest-end walk rather than to many more rounds.
+    if (4 * static_cast<uint64_t>(before - frag.count()) < before) break;
   }
 }
 

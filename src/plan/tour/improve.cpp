@@ -23,6 +23,10 @@ constexpr uint32_t kKickReversals = 10000;
 // per this many nodes, or after kMaxPasses.
 constexpr long kPassYield = 500;
 constexpr int kMaxPasses = 20;
+// Perturbation trials come in kRounds rounds (of at least kMinRound); one that saves less
+// than kRoundYield of the pen-up travel ends them.
+constexpr long kRounds = 20, kMinRound = 1000;
+constexpr double kRoundYield = 1e-4;
 }  // namespace
 
 PathImprover::PathImprover(const std::vector<Vec2>& pts, const std::vector<int32_t>& partner, Vec2 start,
@@ -272,10 +276,20 @@ void PathImprover::perturb(long kicks, uint64_t seed, Clock::time_point cap, Imp
   logging_ = true;
   max_reversal_ = kKickReversals;
   deferred_.clear();
+  // Trials go in rounds; when a whole round saves less than kRoundYield of the travel, the
+  // rest would not pay for itself (so on long random strokes, whose repairs need long
+  // reversals) and perturbation stops: a rule on results, so still deterministic.
+  const long round = std::max(kMinRound, kicks / kRounds);
+  double length = travel(), round_gain = 0;
   for (long t = 0; t < kicks && !st.capped; ++t) {
     if ((t & 15) == 0 && Clock::now() > cap) {
       st.capped = true;
       break;
+    }
+    if (t > 0 && t % round == 0) {
+      if (round_gain < kRoundYield * length) break;
+      length -= round_gain;
+      round_gain = 0;
     }
     uint32_t i = rng.below(N_), l1 = 1 + rng.below(lmax), l2 = 1 + rng.below(lmax);
     // Cuts are moved one node on where they would split a stroke (each node has at
@@ -300,6 +314,7 @@ void PathImprover::perturb(long kicks, uint64_t seed, Clock::time_point cap, Imp
     if (!st.capped && gain - cost > kEps) {
       ++st.kicks_kept;
       st.gain += gain - cost;
+      round_gain += gain - cost;
       continue;
     }
     logging_ = false;

@@ -49,6 +49,15 @@ class PathImprover {
   uint32_t next(uint32_t a) const { return tour_[pos_[a] + 1 == N_ ? 0 : pos_[a] + 1]; }
   uint32_t prev(uint32_t a) const { return tour_[pos_[a] == 0 ? N_ - 1 : pos_[a] - 1]; }
   uint32_t succ(uint32_t a, bool fwd) const { return fwd ? next(a) : prev(a); }
+  // Pen-up travel: the cycle's edges less the strokes' own. O(n).
+  double travel() const {
+    double s = 0;
+    for (uint32_t i = 0; i < N_; ++i) {
+      const uint32_t a = tour_[i], b = tour_[i + 1 == N_ ? 0 : i + 1];
+      if (!fixed(a, b)) s += dist(a, b);
+    }
+    return s;
+  }
 
   // Elements a 2-opt move between a-b and c-d reverses (b..c or the other side).
   uint32_t reversal_length(uint32_t b, uint32_t c) const {
