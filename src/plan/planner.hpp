@@ -37,8 +37,9 @@ struct PlanOptions {
 // (a tree's segments: half its odd-degree vertices); circles are outlined or filled;
 // then all of the layer's strokes are ordered as an open travelling-salesman path
 // (each stroke in either direction) from where the previous layer ended.
-// Time: O(P + n log n) to build strokes and the greedy tour (P points, n strokes),
-// then the improvement, O(n) work per unit of effort in practice (see plan/tour.hpp).
+// Time: O(P + n k log n) to build strokes, candidate lists and the greedy edge tour
+// (P points, n strokes, k = neighbors), then the local search and the trials, O(n) work
+// per unit of effort in practice (see plan/tour.hpp).
 Plan plan_drawing(const Drawing& d, const PlanOptions& opt);
 
 // How planning went, for --json reports and benchmarks.
