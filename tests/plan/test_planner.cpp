@@ -10,7 +10,6 @@
 #include "plan/planner.hpp"
 #include "drivers/motion/plan_stats.hpp"
 #include "plan/strokes.hpp"
-#include "plan/tour.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
 
