@@ -36,7 +36,7 @@ void register_export(CLI::App& app) {
       "To export an image, run a method with -o x.gcode / -o x.hpgl directly.\n"
       "Examples:\n"
       "  stipplot export drawing.svg --profile grbl-servo -o drawing.gcode\n"
-      "  stipplot export drawing.svg --profile hp7475a-a4 -o drawing.hpgl --optimize-seconds 5\n"
+      "  stipplot export drawing.svg --profile hp7475a-a4 -o drawing.hpgl --optimize-effort 2\n"
       "  stipplot export drawing.svg -o planned.svg --show-travel");
   cmd->add_option("input", args->input, "Input SVG")->required();
   cmd->add_option("-o,--output", args->output, "Output: .gcode, .hpgl, or .svg (the planned order)")->required()->group("Output");

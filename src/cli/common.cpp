@@ -99,7 +99,8 @@ void write_planned_output(const Drawing& d, const std::string& path, const std::
   // The pen starts at machine zero: plan from there (in page coordinates).
   po.origin = MachineTransform(prof, d.page).page_position_of_machine_zero();
   auto t0 = std::chrono::steady_clock::now();
-  Plan plan = plan_drawing(d, po);
+  PlanInfo plan_info;
+  Plan plan = plan_drawing(d, po, &plan_info);
   double plan_s = seconds_since(t0);
   auto t1 = std::chrono::steady_clock::now();
   if (kind == OutputKind::gcode) {
@@ -116,6 +117,8 @@ void write_planned_output(const Drawing& d, const std::string& path, const std::
   summary["profile"] = prof.name;
   summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin));
   summary["seconds_plan"] = plan_s;
+  // Only a tripped --optimize-seconds cap makes the plan depend on the machine's speed.
+  summary["plan_capped"] = plan_info.budget_hit;
   summary["seconds_write"] = seconds_since(t1);
 }
 

@@ -12,6 +12,7 @@ namespace stipplot {
 
 void PlanOptions::validate() const {
   require_nonnegative("--optimize-seconds", optimize_seconds);
+  require_range("--optimize-effort", optimize_effort, 0, 1000);
   require_range("join tolerance", join_tolerance_mm, 0, 10);
   require_range("fill pitch", fill_pitch, 0.05, 1.0);
   require_range("chord tolerance", chord_tolerance_mm, 1e-4, 1);
@@ -104,10 +105,15 @@ Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info) {
     }
     plan::TourOptions topt;
     topt.neighbors = opt.neighbors;
-    topt.seconds = total_nodes == 0 ? 0 : opt.optimize_seconds * static_cast<double>(node_count(layer)) / total_nodes;
+    const double share = total_nodes == 0 ? 0 : static_cast<double>(node_count(layer)) / total_nodes;
+    // Past the ceiling the trials stop growing with the drawing: there the local optimum
+    // alone is within the planner's targets, and trials would cost seconds.
+    topt.kicks = std::lround(opt.optimize_effort *
+                             std::min(static_cast<double>(total_nodes), PlanOptions::kTrialPointCeiling) * share);
+    topt.seconds_cap = opt.optimize_seconds * share;
     plan::TourStats ts;
     const std::vector<uint32_t> order = plan::plan_tour(pts, partner, pos, topt, &ts);
-    local.budget_hit = local.budget_hit || ts.budget_hit;
+    local.budget_hit = local.budget_hit || ts.capped;
     local.improving_moves += ts.moves_2opt + ts.moves_oropt;
     out.strokes.reserve(strokes.size());
     for (size_t k = 0; k < order.size(); ++k) {

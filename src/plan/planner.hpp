@@ -11,10 +11,17 @@
 namespace stipplot {
 
 struct PlanOptions {
-  // Improvement budget (2-opt/Or-opt) for the whole drawing, shared among layers by
-  // their size; 0 = greedy construction only. Without hitting it the plan is
-  // deterministic.
-  double optimize_seconds = 2.0;
+  // The improvement's work budget: after 2-opt and Or-opt reach a local optimum,
+  // perturbation trials, this many per point (dot, circle or polyline end) of the first
+  // kTrialPointCeiling points, shared among layers by size; 0 = the local optimum only.
+  // Work, not time, so the same drawing and options give the same plan on any machine
+  // at any load.
+  double optimize_effort = 0.3;
+  static constexpr double kTrialPointCeiling = 300000;
+  // Wall-clock cap on the improvement for the whole drawing, shared among layers by
+  // their size; 0 = greedy construction only. Only when it trips (PlanInfo::budget_hit)
+  // does the plan depend on the machine's speed.
+  double optimize_seconds = 60.0;
   double join_tolerance_mm = 0.05;  // polyline ends closer than this are one vertex
   plan::FillMode fill = plan::FillMode::Spiral;
   double fill_pitch = 0.9;          // fill passes this fraction of the pen width apart
@@ -30,14 +37,15 @@ struct PlanOptions {
 // (a tree's segments: half its odd-degree vertices); circles are outlined or filled;
 // then all of the layer's strokes are ordered as an open travelling-salesman path
 // (each stroke in either direction) from where the previous layer ended.
-// Time: O(P + n log n) to build strokes and the greedy tour (P points, n strokes),
-// then the improvement under the time budget (see plan/tour.hpp).
+// Time: O(P + n k log n) to build strokes, candidate lists and the greedy edge tour
+// (P points, n strokes, k = neighbors), then the local search and the trials, O(n) work
+// per unit of effort in practice (see plan/tour.hpp).
 Plan plan_drawing(const Drawing& d, const PlanOptions& opt);
 
 // How planning went, for --json reports and benchmarks.
 struct PlanInfo {
   double seconds = 0;        // wall time of plan_drawing
-  bool budget_hit = false;   // some layer stopped improving at its time budget
+  bool budget_hit = false;   // the wall-clock cap stopped some layer's improvement
   long improving_moves = 0;  // 2-opt + Or-opt moves applied
 };
 Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info);
