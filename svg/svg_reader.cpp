@@ -13,6 +13,7 @@
 #include <optional>
 #include <sstream>
 
+#include "geometry/affine.hpp"
 #include "util/error.hpp"
 #include "util/units.hpp"
 
@@ -22,27 +23,6 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kMmPerPx = 25.4 / 96.0;
-
-// x' = a x + c y + e ; y' = b x + d y + f  (SVG's matrix(a b c d e f))
-struct Affine {
-  double a = 1, b = 0, c = 0, d = 1, e = 0, f = 0;
-  Vec2 apply(Vec2 p) const { return {a * p.x + c * p.y + e, b * p.x + d * p.y + f}; }
-  Affine operator*(const Affine& o) const {  // this after o
-    return {a * o.a + c * o.b, b * o.a + d * o.b, a * o.c + c * o.d,
-            b * o.c + d * o.d, a * o.e + c * o.f + e, b * o.e + d * o.f + f};
-  }
-  double det() const { return a * d - b * c; }
-  // Largest stretch of a unit vector (largest singular value).
-  double max_scale() const {
-    double p = (a * a + b * b + c * c + d * d) / 2, q = std::sqrt(std::max(0.0, p * p - det() * det()));
-    return std::sqrt(p + q);
-  }
-  // Rotation, uniform scale and possibly a reflection: circles stay circles.
-  bool is_similarity() const {
-    double tol = 1e-9 * (std::fabs(a) + std::fabs(b) + std::fabs(c) + std::fabs(d));
-    return (std::fabs(a - d) <= tol && std::fabs(b + c) <= tol) || (std::fabs(a + d) <= tol && std::fabs(b - c) <= tol);
-  }
-};
 
 struct Paint {
   bool none = false;
@@ -762,7 +742,10 @@ class Reader {
         std::string name = *label;
         size_t i = 0;
         while (i < name.size() && std::isdigit(static_cast<unsigned char>(name[i]))) ++i;
-        if (i > 0 && i < name.size() && name[i] == ' ') name = trim(name.substr(i + 1));
+        if (i > 0 && i < name.size() && name[i] == ' ') {
+          if (i <= 4) l.pen.number = std::stoi(name.substr(0, i));  // the pen, as AxiDraw reads it
+          name = trim(name.substr(i + 1));
+        }
         l.pen.name = name.empty() ? *label : name;
       } else {
         l.pen.name = colour_out.hex();

@@ -35,6 +35,10 @@ struct MachineGeometry {
   double origin_offset_x_mm = 0, origin_offset_y_mm = 0;
   double resolution_mm = 0.01;  // coordinates are rounded to this
   double units_per_mm = 1;      // HPGL: 40 plotter units per mm
+  // The paper the machine takes, as it lies on it (width along the page's x): the key
+  // `sheet` ("A4 landscape", "A3 portrait", "300x200mm"), optional; without it, the travel
+  // plus the origin offset. Drawings are laid out on it unless --page says otherwise.
+  double sheet_width_mm = 0, sheet_height_mm = 0;
   // Machine +Y points up the page (grbl's positive space from a bottom-left zero, HPGL).
   bool y_up() const { return (origin == Origin::bottom_left) == (y_sign > 0); }
 };

@@ -25,7 +25,7 @@ void add_plan_options(CLI::App* cmd, PlanArgs& a) {
   cmd->add_option("--fill", a.fill, "Filled circles and dots wider than the pen: spiral|hatch|none")
       ->capture_default_str()
       ->group("Planning");
-  cmd->add_option("--join-tolerance", a.join_tolerance, "Polyline ends closer than this are joined: mm (0.05, 0.05mm), cm, in or pt")
+  cmd->add_option("--join-tolerance", a.join_tolerance, "Polyline ends closer than this are joined: mm (0.05, 0.05mm), cm, in, pt or px (1/96 in)")
       ->capture_default_str()
       ->group("Planning");
 }
