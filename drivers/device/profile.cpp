@@ -310,18 +310,6 @@ fs::path executable_dir() {
 
 }  // namespace
 
-int DeviceProfile::pen_for_layer(size_t layer) const {
-  if (!pen.map.empty()) {
-    if (layer < pen.map.size()) return pen.map[layer];
-  } else if (layer < static_cast<size_t>(pen.count)) {
-    return static_cast<int>(layer) + 1;
-  }
-  if (protocol == Protocol::grbl) return 1;  // one pen holder: the operator changes pens at M0
-  throw UserError("the plan has more layers (" + std::to_string(layer + 1) + "+) than profile " + name +
-                  " has pens (" + std::to_string(pen.map.empty() ? pen.count : static_cast<int>(pen.map.size())) +
-                  "); merge layers or use a profile with more pens");
-}
-
 DeviceProfile parse_profile(const std::string& text, const std::string& origin) {
   toml::table root;
   try {

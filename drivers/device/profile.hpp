@@ -47,7 +47,7 @@ struct MachineGeometry {
 struct PenSetup {
   PenMethod method = PenMethod::servo;
   int count = 1;          // pens the machine holds (carousel), 1 = change by hand
-  std::vector<int> map;   // layer i -> pen number map[i]; empty = 1, 2, 3, ...
+  std::vector<int> map;   // pen i+1's home slot map[i]; empty = pen n in slot n (carousel.hpp)
   double servo_down_s = 0;    // servo: M3 S<down> lowers the pen
   double servo_up_s = 0;      //        M3 S<up> lifts it; 0 means M5
   double z_up_mm = 0, z_down_mm = 0, z_feed_mm_s = 0;  // z_axis
@@ -80,9 +80,6 @@ struct DeviceProfile {
   PenSetup pen;
   HpglSettings hpgl;
   SerialSetup serial;
-
-  // Pen number for layer i (0-based) or throws UserError when the machine has no pen for it.
-  int pen_for_layer(size_t layer) const;
 };
 
 // Parses and validates a profile file; throws UserError naming the file and key.

@@ -24,7 +24,7 @@ void PlanOptions::validate() const {
   require_range("--hatch-angle", hatch_angle_degrees, -360, 360);
   require_range("--simplify", simplify_mm, 0, 100);
   require_range("--min-length", min_length_mm, 0, 10000);
-  require_range("--passes", passes, 1, 100);
+  require_range("--multipass", passes, 1, 100);
 }
 
 namespace {

@@ -48,7 +48,7 @@ TEST_CASE("export writes a foreign SVG for every shipped profile", "[cli][export
       CHECK(text.find("SP2;") != std::string::npos);  // the red layer's pen
     } else {
       CHECK(text.find("\nG21\nG90\n") != std::string::npos);
-      CHECK(text.find("M0 (MSG,Change pen: layer 2 red") != std::string::npos);
+      CHECK(text.find("M0 (MSG,Change pen: pen 2 red") != std::string::npos);
     }
   }
   // the planned order as SVG, with the hidden travel layer
