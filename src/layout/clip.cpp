@@ -151,12 +151,15 @@ DiscPlace place_disc(Vec2 c, double rad, const Rect& exact) {
   return DiscPlace::crossing;
 }
 
-// A filled disc that crosses the edge, as a clipped area; false if nothing is left.
-bool disc_area(Vec2 c, double rad, Color fill, const Rect& r, double tol, std::vector<Area>& out) {
+// A filled disc that crosses the edge, as a clipped area and the part of its outline on
+// the sheet; false if nothing is left.
+bool disc_area(Vec2 c, double rad, Color fill, const Rect& r, double tol, std::vector<Area>& out,
+               std::vector<Polyline>& outline) {
   Area a;
   a.fill = fill;
   a.rings.push_back({circle_points(c, rad, tol)});
   bool changed;
+  for (auto& run : clip_polyline(a.rings.front(), r, changed)) outline.push_back(std::move(run));
   if (!clip_area(a, r, changed)) return false;
   out.push_back(std::move(a));
   return true;
@@ -190,7 +193,7 @@ ClipCounts clip_layer(Layer& l, const Rect& r, double tol) {
     if (at == DiscPlace::inside) dots.push_back(d);
     else if (at == DiscPlace::outside) ++n.dropped;
     else if (d.diameter <= l.pen.width_mm) r.contains(d.c) ? dots.push_back(d) : void(++n.dropped);  // a touch
-    else disc_area(d.c, d.diameter / 2, l.pen.color, r, tol, areas) ? void(++n.cut) : void(++n.dropped);
+    else disc_area(d.c, d.diameter / 2, l.pen.color, r, tol, areas, lines) ? void(++n.cut) : void(++n.dropped);
   }
   std::vector<Circle> circles;
   for (const auto& c : l.circles) {
@@ -200,7 +203,7 @@ ClipCounts clip_layer(Layer& l, const Rect& r, double tol) {
     } else if (at == DiscPlace::outside) {
       ++n.dropped;
     } else if (c.filled) {
-      disc_area(c.c, c.r, c.fill, r, tol, areas) ? void(++n.cut) : void(++n.dropped);
+      disc_area(c.c, c.r, c.fill, r, tol, areas, lines) ? void(++n.cut) : void(++n.dropped);
     } else {
       bool changed;
       auto runs = clip_polyline({circle_points(c.c, c.r, tol)}, r, changed);

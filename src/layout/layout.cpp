@@ -115,11 +115,15 @@ Drawing lay_out(Drawing d, const LayoutOptions& opt, LayoutReport* report) {
   LayoutReport rep;
   if (opt.crop) rep.cropped = clip_to_rect(d, *opt.crop);
   double w = d.page.width_mm, h = d.page.height_mm;
+  // What is turned to the sheet's orientation: the page, or with fit the ink it fits.
+  double ow = w, oh = h;
+  Vec2 lo, hi;
+  if (opt.fit && d.bounds(lo, hi)) ow = hi.x - lo.x, oh = hi.y - lo.y;
   double deg = 0;
   if (opt.rotate_degrees) {
     deg = *opt.rotate_degrees;
-  } else if (opt.auto_rotate && w != h && opt.sheet.width_mm != opt.sheet.height_mm &&
-             landscape(w, h) != landscape(opt.sheet.width_mm, opt.sheet.height_mm)) {
+  } else if (opt.auto_rotate && ow != oh && opt.sheet.width_mm != opt.sheet.height_mm &&
+             landscape(ow, oh) != landscape(opt.sheet.width_mm, opt.sheet.height_mm)) {
     deg = -90;
     rep.auto_rotated = true;
   }

@@ -5,8 +5,8 @@
 //   1. crop   — cut the drawing to a rectangle of its own page (what to keep);
 //   2. rotate — by rotate_degrees (clockwise) about the page centre; or, when none is
 //               given, by 90 degrees (counter-clockwise, as vpype's pagerotate) if the page's
-//               orientation differs from the sheet's (a portrait drawing on a landscape
-//               plotter), unless auto_rotate is off;
+//               orientation (with fit: the ink's) differs from the sheet's (a portrait
+//               drawing on a landscape plotter), unless auto_rotate is off;
 //   3. scale  — by a factor, or fit: the drawing's ink (its bounding box) scaled, keeping
 //               its aspect, to fill the area of the sheet inside the margins and the
 //               device's reach;

@@ -25,8 +25,9 @@ struct Crossing {
   int dir;
 };
 
+// A hatch span in the rotated frame, in the order the pen draws it (x0 first).
 struct Span {
-  Vec2 a, b;  // in the order the pen draws it
+  double x0, x1;
 };
 
 std::vector<Edge> ring_edges(const Area& area, double cs, double sn, double& ymin, double& ymax) {
@@ -73,47 +74,59 @@ void line_spans(double y, const std::vector<const Edge*>& active, FillRule rule,
 }
 
 // Chains of spans drawn as one stroke: a span joins the chain whose last point, on the
-// previous line, lies within `link` of its start (the short connector hugs the edge).
+// previous line, lies within `link` of its start, when the short connector between them
+// stays inside the area (its midpoint lies in a span of the scanline halfway between).
+// Everything here is in the rotated frame; `page` maps back.
 class Zigzag {
  public:
-  explicit Zigzag(double link) : link2_(link * link) {}
-  void line(const std::vector<Span>& spans) {
-    std::vector<Stroke> next;
+  Zigzag(double link, double cs, double sn) : link_(link), cs_(cs), sn_(sn) {}
+  void line(double y, const std::vector<Span>& spans, const std::vector<std::pair<double, double>>& between) {
+    std::vector<Chain> next;
     std::vector<bool> used(open_.size(), false);
     for (const Span& s : spans) {
       size_t best = open_.size();
-      double best_d2 = link2_;
+      double best_d = link_;
       for (size_t i = 0; i < open_.size(); ++i) {
         if (used[i]) continue;
-        const Vec2 e = open_[i].pts.back();
-        const double d2 = (e.x - s.a.x) * (e.x - s.a.x) + (e.y - s.a.y) * (e.y - s.a.y);
-        if (d2 <= best_d2) best = i, best_d2 = d2;
+        const double d = std::hypot(open_[i].x - s.x0, y - open_[i].y);
+        const double mid = (open_[i].x + s.x0) / 2;
+        const bool inside = std::any_of(between.begin(), between.end(),
+                                        [mid](const auto& b) { return mid >= b.first && mid <= b.second; });
+        if (d <= best_d && inside) best = i, best_d = d;
       }
-      Stroke st;
+      Chain c;
       if (best < open_.size()) {
         used[best] = true;
-        st = std::move(open_[best]);
+        c = std::move(open_[best]);
       }
-      st.pts.push_back(s.a);
-      st.pts.push_back(s.b);
+      c.stroke.pts.push_back(page(s.x0, y));
+      c.stroke.pts.push_back(page(s.x1, y));
+      c.x = s.x1;
+      c.y = y;
       points_ += 2;
-      next.push_back(std::move(st));
+      next.push_back(std::move(c));
     }
     for (size_t i = 0; i < open_.size(); ++i)
-      if (!used[i]) done_.push_back(std::move(open_[i]));
+      if (!used[i]) done_.push_back(std::move(open_[i].stroke));
     open_ = std::move(next);
   }
   std::vector<Stroke> finish() {
-    for (auto& s : open_) done_.push_back(std::move(s));
+    for (auto& c : open_) done_.push_back(std::move(c.stroke));
     open_.clear();
     return std::move(done_);
   }
   size_t points() const { return points_; }
 
  private:
-  double link2_;
+  struct Chain {
+    Stroke stroke;
+    double x = 0, y = 0;  // its last point, rotated frame
+  };
+  Vec2 page(double x, double y) const { return {x * cs_ - y * sn_, x * sn_ + y * cs_}; }
+  double link_, cs_, sn_;
   size_t points_ = 0;
-  std::vector<Stroke> open_, done_;
+  std::vector<Chain> open_;
+  std::vector<Stroke> done_;
 };
 
 }  // namespace
@@ -134,27 +147,31 @@ std::vector<Stroke> hatch_area(const Area& area, const HatchOptions& opt) {
       throw UserError("a filled shape " + std::to_string(h) + " mm across needs too many hatch lines at spacing " +
                       std::to_string(opt.spacing_mm) + " mm");
     const double step = h / lines;
-    Zigzag zig(1.5 * std::max(step, opt.spacing_mm) + 1e-9);
+    Zigzag zig(1.5 * std::max(step, opt.spacing_mm) + 1e-9, cs, sn);
     std::vector<const Edge*> active;
     std::vector<Crossing> xs;
-    std::vector<std::pair<double, double>> spans;
+    std::vector<std::pair<double, double>> spans, between;
     std::vector<Span> drawn;
     size_t next_edge = 0;
+    // The sweep visits the midlines too (for the connectors' test), so y only grows.
+    auto spans_at = [&](double y, std::vector<std::pair<double, double>>& out_spans) {
+      while (next_edge < edges.size() && edges[next_edge].ylo <= y) active.push_back(&edges[next_edge++]);
+      std::erase_if(active, [y](const Edge* e) { return e->yhi <= y; });
+      line_spans(y, active, area.rule, xs, out_spans);
+    };
     const auto n_lines = static_cast<size_t>(lines);
     for (size_t k = 0; k < n_lines; ++k) {
       const double y = ymin + (static_cast<double>(k) + 0.5) * step;
-      while (next_edge < edges.size() && edges[next_edge].ylo <= y) active.push_back(&edges[next_edge++]);
-      std::erase_if(active, [y](const Edge* e) { return e->yhi <= y; });
-      line_spans(y, active, area.rule, xs, spans);
-      // Back in page coordinates, every other line right to left (a zigzag).
+      if (k > 0) spans_at(y - step / 2, between);
+      spans_at(y, spans);
+      // Every other line right to left: a zigzag.
       drawn.clear();
-      auto page = [&](double x) { return Vec2{x * cs - y * sn, x * sn + y * cs}; };
       if (k % 2 == 0) {
-        for (const auto& [x0, x1] : spans) drawn.push_back({page(x0), page(x1)});
+        for (const auto& [x0, x1] : spans) drawn.push_back({x0, x1});
       } else {
-        for (auto it = spans.rbegin(); it != spans.rend(); ++it) drawn.push_back({page(it->second), page(it->first)});
+        for (auto it = spans.rbegin(); it != spans.rend(); ++it) drawn.push_back({it->second, it->first});
       }
-      zig.line(drawn);
+      zig.line(y, drawn, between);
       if (zig.points() > kMaxPoints)
         throw UserError("a filled shape needs more than 20 million hatch points at spacing " +
                         std::to_string(opt.spacing_mm) + " mm");

@@ -73,6 +73,11 @@ TEST_CASE("fit scales the ink into the sheet less margins and reach, keeping its
   o.margin_mm = 5;
   o.fit = true;
   LayoutReport rep;
+  // fitting, the ink's own orientation counts: tall ink on a wide sheet is turned, 40 x 20 -> k = 4.5
+  Drawing turned = lay_out(d, o, &rep);
+  CHECK(rep.auto_rotated);
+  CHECK(rep.scale == Approx(4.5));
+  o.auto_rotate = false;
   Drawing out = lay_out(d, o, &rep);
   // area 190 x 90: height-limited, k = 90 / 40 = 2.25, ink 45 x 90 centred at x = 100
   CHECK(rep.scale == Approx(2.25));
@@ -145,7 +150,7 @@ TEST_CASE("clipping cuts strokes at the sheet's edge and drops what lies off it"
   const Layer& c = out.layers[0];
   CHECK(rep.clipped.dropped == 3);
   CHECK(rep.clipped.cut == 5);
-  REQUIRE(c.lines.size() == 4);
+  REQUIRE(c.lines.size() == 5);  // two cut lines, the ring, the outlined circle's arc and the filled one's edge
   CHECK(c.lines[0].pts.back() == Vec2{100, 50});
   CHECK(c.lines[1].pts.front() == Vec2{0, 10});
   CHECK(c.lines[1].pts.back() == Vec2{100, 10});
