@@ -164,7 +164,7 @@ TEST_CASE("the text-only examples plot their text", "[cli][layout][inkscape]") {
   }
 }
 
-TEST_CASE("--layer and --pen-map choose what is drawn with which pen", "[cli][layout][pens]") {
+TEST_CASE("layer and pen options choose what is drawn with which pen", "[cli][layout][pens]") {
   test::TempDir t;
   const std::string foreign = std::string(STIPPLOT_SOURCE_DIR) + "/examples/foreign.svg";
   auto r = test::run_cli("export " + foreign + " --profile hp7475a-a4 --layer 2 -o " + t.file("red.hpgl"));
