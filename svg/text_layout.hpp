@@ -57,8 +57,10 @@ std::u32string decode_utf8(const std::string& s);
 // O(characters + glyph points).
 TextResult lay_out_text(const std::vector<TextChar>& chars, Vec2 start = {0, 0});
 // Along a polyline in user units; start_offset in user units from its start.
+// O(characters x log(path points) + glyph points).
 TextResult lay_out_on_path(const std::vector<TextChar>& chars, const std::vector<Vec2>& path, double start_offset);
 // Wrapped into `box` (user units), top line first; lines below the box are not drawn.
+// O(characters + glyph points).
 TextResult lay_out_in_box(const std::vector<TextChar>& chars, const Rect& box);
 
 // Throws UserError naming the package when the fonts are not installed.

@@ -20,6 +20,7 @@ void keep_layers(Drawing& d, const std::string& selection);
 // "--pen-map red=2,#0000ff=3,1=1,outline=4": sets the pen number of every layer an item
 // names (a position, else a name, else a colour); layers it names none of get the lowest
 // numbers it leaves free. Throws UserError naming a malformed or unmatched item.
+// O(layers x items).
 void apply_pen_map(Drawing& d, const std::string& map);
 
 }  // namespace stipplot::layout

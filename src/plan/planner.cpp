@@ -55,13 +55,11 @@ void add_layer_strokes(const Layer& layer, const PlanOptions& opt, std::vector<S
   plan::HatchOptions hatch;
   hatch.spacing_mm = opt.hatch_spacing_mm > 0 ? opt.hatch_spacing_mm : opt.fill_pitch * layer.pen.width_mm;
   hatch.angle_degrees = opt.hatch_angle_degrees;
-  for (const Area& a : layer.areas) {
-    if (opt.fill == plan::FillMode::None) {
-      for (const auto& ring : a.rings) out.push_back({ring.pts});
-      continue;
-    }
-    for (Stroke& s : plan::hatch_area(a, hatch)) out.push_back(std::move(s));
-  }
+  // An area's outline is among the layer's lines already (the reader and the layout's
+  // clipping put it there): --fill none leaves only that.
+  if (opt.fill != plan::FillMode::None)
+    for (const Area& a : layer.areas)
+      for (Stroke& s : plan::hatch_area(a, hatch)) out.push_back(std::move(s));
   if (opt.passes > 1)
     for (size_t i = first; i < out.size(); ++i) plan::multipass_stroke(out[i], opt.passes);
 }

@@ -22,7 +22,7 @@ struct PlanOptions {
   int neighbors = 10;               // 2-opt/Or-opt candidates per point
   Vec2 origin{0, 0};                // where the pen starts
   // Areas (filled shapes): hatched at this spacing (0: fill_pitch x the pen width) and
-  // angle, outlined; --fill none outlines them only.
+  // angle; --fill none leaves them to their outlines, which are the drawing's lines.
   double hatch_spacing_mm = 0;
   double hatch_angle_degrees = 45;
   // Path operations (plan/path_ops.hpp), off at their defaults.

@@ -157,7 +157,7 @@ TEST_CASE("the planner merges layers on one pen, filters short strokes and appli
   CHECK_THROWS_AS(plan_drawing(d, o), UserError);
 }
 
-TEST_CASE("areas are hatched at the pen width by the planner, or outlined with --fill none", "[plan][hatch]") {
+TEST_CASE("areas are hatched at the pen width by the planner, and left to their outlines with --fill none", "[plan][hatch]") {
   Drawing d;
   Layer l;
   l.pen.width_mm = 0.5;
@@ -171,7 +171,8 @@ TEST_CASE("areas are hatched at the pen width by the planner, or outlined with -
   REQUIRE(p.layers[0].strokes.size() == 1);
   CHECK(p.layers[0].strokes[0].pts.size() == 2 * 20);  // 9 / (0.9 x 0.5) = 20 lines
   o.fill = FillMode::None;
+  d.layers[0].lines.push_back(a.rings[0]);  // the outline, as the SVG reader gives it
   p = plan_drawing(d, o);
   REQUIRE(p.layers[0].strokes.size() == 1);
-  CHECK(p.layers[0].strokes[0].pts.size() == 5);  // the ring
+  CHECK(p.layers[0].strokes[0].pts.size() == 5);  // the ring alone
 }
