@@ -98,8 +98,9 @@ layout::LayoutOptions layout_options(const LayoutArgs& a) {
   return o;
 }
 
+// "A4", "letter": a paper name, not a WxH size.
 bool is_named_page(const std::string& text) {
-  return std::none_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); });
+  return std::none_of(text.begin(), text.end(), [](unsigned char c) { return std::tolower(c) == 'x'; });
 }
 
 }  // namespace

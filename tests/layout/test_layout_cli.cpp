@@ -196,6 +196,21 @@ TEST_CASE("layer and pen options choose what is drawn with which pen", "[cli][la
   CHECK(r.err.find("purple") != std::string::npos);
 }
 
+TEST_CASE("--page names the paper on the machine, turned as the machine takes its sheet", "[cli][layout]") {
+  test::TempDir t;
+  const std::string foreign = std::string(STIPPLOT_SOURCE_DIR) + "/examples/foreign.svg";
+  auto sheet_of = [&](const std::string& args) {
+    auto r = test::run_cli("export " + foreign + " " + args + " -o " + t.file("x.hpgl") + " --json");
+    INFO(args << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    return nlohmann::json::parse(r.out)["layout"]["sheet_mm"];
+  };
+  CHECK(sheet_of("--profile hp7475a-a4") == nlohmann::json::array({297.0, 210.0}));
+  CHECK(sheet_of("--profile hp7475a-a4 --page A4") == nlohmann::json::array({297.0, 210.0}));  // named: lies landscape
+  CHECK(sheet_of("--profile hp7475a-a3 --page A4 --fit") == nlohmann::json::array({297.0, 210.0}));
+  CHECK(sheet_of("--profile hp7475a-a3 --page 250x280mm --fit") == nlohmann::json::array({250.0, 280.0}));  // WxH as given
+}
+
 TEST_CASE("bad layout options are one error line, and no file", "[cli][layout]") {
   test::TempDir t;
   const std::string foreign = std::string(STIPPLOT_SOURCE_DIR) + "/examples/foreign.svg";
