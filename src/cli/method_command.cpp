@@ -156,9 +156,9 @@ void MethodCommand::run() const {
   LoadOptions lo;
   lo.max_pixels = a.max_pixels;
   const Image image = load_image(a.input, lo);
-  // The device's sheet, unasked for, is turned like the photo: a landscape photo lies
-  // across it, a portrait one is turned to the sheet by the layout.
-  if (device && !page_given && !a.place.landscape) placement.landscape = image.width > image.height;
+  // For a device the page is turned like the photo: a landscape photo lies across it, a
+  // portrait one is turned to the sheet by the layout.
+  if (device && !a.place.landscape) placement.landscape = image.width > image.height;
   const auto t1 = std::chrono::steady_clock::now();
   MethodResult r = draw_(MethodInput{image, placement, !a.report.json && !a.report.quiet});
   const double method_s = seconds_since(t1);
