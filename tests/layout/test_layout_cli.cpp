@@ -196,7 +196,7 @@ TEST_CASE("layer and pen options choose what is drawn with which pen", "[cli][la
   CHECK(r.err.find("purple") != std::string::npos);
 }
 
-TEST_CASE("--page names the paper on the machine, turned as the machine takes its sheet", "[cli][layout]") {
+TEST_CASE("a page option names the paper on the machine, lying as the machine takes its sheet", "[cli][layout]") {
   test::TempDir t;
   const std::string foreign = std::string(STIPPLOT_SOURCE_DIR) + "/examples/foreign.svg";
   auto sheet_of = [&](const std::string& args) {
