@@ -46,6 +46,8 @@ class Reader {
  public:
   Reader(const std::string& name, const SvgReadOptions& opt) : name_(name), opt_(opt) {}
 
+  size_t missing_glyphs() const { return missing_glyphs_; }
+
   Drawing run(const tinyxml2::XMLDocument& doc) {
     const tinyxml2::XMLElement* root = doc.RootElement();
     if (!root || std::strcmp(local(root->Name()), "svg") != 0)
@@ -1159,7 +1161,7 @@ class Reader {
 
 }  // namespace
 
-Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt) {
+Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt, SvgReadReport* report) {
   require_positive("SVG flattening tolerance", opt.tolerance_mm);
   require_positive("default pen width", opt.default_pen_width_mm);
   tinyxml2::XMLDocument doc;
@@ -1167,16 +1169,19 @@ Drawing parse_svg(const std::string& text, const std::string& name, const SvgRea
     std::string msg = doc.ErrorStr() ? doc.ErrorStr() : "XML error";
     throw UserError(name + " line " + std::to_string(doc.ErrorLineNum()) + ": malformed XML: " + msg);
   }
-  return Reader(name, opt).run(doc);
+  Reader reader(name, opt);
+  Drawing d = reader.run(doc);
+  if (report) report->missing_glyphs = reader.missing_glyphs();
+  return d;
 }
 
-Drawing read_svg(const std::string& path, const SvgReadOptions& opt) {
+Drawing read_svg(const std::string& path, const SvgReadOptions& opt, SvgReadReport* report) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UserError("cannot read " + path);
   std::ostringstream ss;
   ss << in.rdbuf();
   if (!in.good() && !in.eof()) throw UserError("cannot read " + path);
-  return parse_svg(ss.str(), path, opt);
+  return parse_svg(ss.str(), path, opt, report);
 }
 
 }  // namespace stipplot

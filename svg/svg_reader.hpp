@@ -30,8 +30,14 @@ struct SvgReadOptions {
 
 // O(elements + output points); the flattening adds points in proportion to
 // sqrt(curve size / tolerance) per curve.
-Drawing read_svg(const std::string& path, const SvgReadOptions& opt = {});
+// What reading left out that a user should hear of.
+struct SvgReadReport {
+  size_t missing_glyphs = 0;  // text characters the Hershey fonts have no glyph for
+};
+
+Drawing read_svg(const std::string& path, const SvgReadOptions& opt = {}, SvgReadReport* report = nullptr);
 // `name` is used in error messages.
-Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt = {});
+Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt = {},
+                  SvgReadReport* report = nullptr);
 
 }  // namespace stipplot

@@ -71,13 +71,15 @@ void register_export(CLI::App& app) {
     SvgReadOptions ro;
     ro.tolerance_mm = tolerance_mm;
     ro.default_pen_width_mm = pen_width_mm;
-    Drawing d = read_svg(a.input, ro);
+    SvgReadReport read;
+    Drawing d = read_svg(a.input, ro, &read);
     if (d.primitive_count() == 0) throw UserError(a.input + ": nothing to plot (no visible shapes or text)");
     double read_s = seconds_since(t0);
     nlohmann::json s;
     s["command"] = "export";
     s["input"] = a.input;
     s["drawing_page_mm"] = {d.page.width_mm, d.page.height_mm};
+    s["missing_glyphs"] = read.missing_glyphs;
     std::string laid_out;
     d = lay_out_for_device(std::move(d), a.layout, &device, -1, s, laid_out);
     if (d.primitive_count() == 0)
@@ -100,6 +102,8 @@ void register_export(CLI::App& app) {
       << total.value("pen_down_mm", 0.0) / 1000 << " m, pen up " << total.value("pen_up_mm", 0.0) / 1000
       << " m, about " << total.value("seconds", 0.0) / 60 << " min to plot (" << s["seconds"].get<double>() << " s)";
     if (!laid_out.empty()) h << "; " << laid_out;
+    if (read.missing_glyphs > 0)
+      h << "; " << read.missing_glyphs << " characters of text left out (the Hershey fonts have ASCII only)";
     a.report.print(s, h.str());
   });
 }

@@ -67,8 +67,10 @@ TEST_CASE("text: tspans with their own positions, per-character dx, tref and whi
   CHECK(p.x1 == Approx(22 + 3 * 16 + 18));
   Drawing r = parse(mm_svg(R"~(<defs><text id="src">H</text></defs><text x="10" y="50" font-size="32"><tref xlink:href="#src"/></text>)~"));
   CHECK(ink(r).x0 == Approx(14));
-  // characters the fonts lack are left out, the others still drawn
-  CHECK(parse(mm_svg("<text x=\"10\" y=\"50\">\xce\xa9 H</text>")).layers.at(0).lines.size() == 3);
+  // characters the fonts lack are left out and counted, the others still drawn
+  SvgReadReport report;
+  CHECK(parse_svg(mm_svg("<text x=\"10\" y=\"50\">\xce\xa9\xce\xa9 H</text>"), "t.svg", {}, &report).layers.at(0).lines.size() == 3);
+  CHECK(report.missing_glyphs == 2);
   // invisible text draws nothing
   CHECK(parse(mm_svg(R"~(<text x="10" y="50" fill="none">H</text><line x1="0" y1="0" x2="1" y2="0" stroke="black"/>)~"))
             .layers.at(0).lines.size() == 1);
