@@ -28,15 +28,27 @@ struct PlanOptions {
   double chord_tolerance_mm = 0.01; // circles drawn as polygons within this
   int neighbors = 10;               // 2-opt/Or-opt candidates per point
   Vec2 origin{0, 0};                // where the pen starts
+  // Areas (filled shapes): hatched at this spacing (0: fill_pitch x the pen width) and
+  // angle; --fill none leaves them to their outlines, which are the drawing's lines.
+  double hatch_spacing_mm = 0;
+  double hatch_angle_degrees = 45;
+  // Path operations (plan/path_ops.hpp), off at their defaults.
+  double simplify_mm = 0;           // polylines simplified within this
+  double min_length_mm = 0;         // polyline strokes shorter than this are not drawn
+  int passes = 1;                   // every stroke drawn this many times (multipass)
+  bool reloop = false;              // closed strokes start where the travel is shortest
   void validate() const;            // UserError naming the option
 };
 
-// Per layer, in the given order (empty layers are kept, so layer i is still pen i):
-// dots of at most the pen width become pen touches and larger ones filled circles;
-// polylines are joined through shared ends into the fewest strokes their graph allows
-// (a tree's segments: half its odd-degree vertices); circles are outlined or filled;
-// then all of the layer's strokes are ordered as an open travelling-salesman path
-// (each stroke in either direction) from where the previous layer ended.
+// Layers with the same pen number (Pen::number; 0 is the layer's position, see
+// resolve_pen_numbers) are planned as one, at the first one's place, so each pen is
+// taken up once; the others keep their order (empty ones are kept, so pen numbers stay).
+// Per pen: dots of at most the pen width become pen touches and larger ones filled
+// circles; polylines are joined through shared ends into the fewest strokes their graph
+// allows (a tree's segments: half its odd-degree vertices), then simplified and filtered
+// by length; circles are outlined or filled, areas hatched; every stroke is given its
+// passes; then all strokes are ordered as an open travelling-salesman path (each stroke
+// in either direction) from where the previous pen ended, and relooped.
 // Time: O(P + n k log n) to build strokes, candidate lists and the greedy edge tour
 // (P points, n strokes, k = neighbors), then the local search and the trials, O(n) work
 // per unit of effort in practice (see plan/tour.hpp).
