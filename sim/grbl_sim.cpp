@@ -188,6 +188,11 @@ void GrblSim::on_byte(char c, double t) {
     case 0x18: reset(t); return;
     case 0x9E:  // spindle stop override: lifts a servo pen during a hold
       if (hold_) {
+        {
+          std::lock_guard lk(m_);
+          const motion::Vec3 at = traced_position();
+          rec_.move(at[0], at[1]);  // the pen leaves the paper where the hold stopped it
+        }
         spindle_stopped_in_hold_ = !spindle_stopped_in_hold_;
         set_pen(pen_down_state());
       }
@@ -500,19 +505,34 @@ void GrblSim::status(double t) {
 // planner, the receive buffer and a dwell are dropped, and the spindle (the pen) goes off.
 void GrblSim::halt(double t) {
   run_motion(t);
-  motion_.halt();
-  const motion::Vec3 p = motion_.position();
   {
     std::lock_guard lk(m_);
-    rec_.move(p[0], p[1]);
+    const motion::Vec3 at = traced_position();
+    rec_.move(at[0], at[1]);
   }
-  parser_pos_ = p;
+  motion_.halt();
+  parser_pos_ = motion_.position();
   rx_.clear();
   line_.reset();
   dwell_until_ = 0;
   stall_until_ = 0;
   spindle_ = 0;
   set_pen(pen_down_state());
+}
+
+// Where the tool is, on the line the job asked for: the step position (Bresenham's,
+// up to a step off the straight line) projected onto the running block's programmed
+// line, as finished blocks are recorded at their programmed ends.
+motion::Vec3 GrblSim::traced_position() const {
+  motion::Vec3 p = motion_.position();
+  if (motion_.blocks().empty()) return p;
+  const motion::Vec3& to = motion_.blocks().front().target;
+  const double x0 = rec_.x(), y0 = rec_.y(), dx = to[0] - x0, dy = to[1] - y0, len2 = dx * dx + dy * dy;
+  if (len2 <= 0) return p;
+  const double u = std::clamp(((p[0] - x0) * dx + (p[1] - y0) * dy) / len2, 0.0, 1.0);
+  p[0] = x0 + u * dx;
+  p[1] = y0 + u * dy;
+  return p;
 }
 
 void GrblSim::reset(double t) {

@@ -89,8 +89,10 @@ class GrblSim final : public SimDevice {
   std::string settings_text() const;
   void apply_settings();  // $$ values -> the motion model (when idle)
   bool pen_down_state() const;
-  bool machine_busy() const { return motion_.busy() || dwell_until_ > 0; }
+  // Blocks held by a feed hold still count: grbl's sync waits for an empty planner.
+  bool machine_busy() const { return motion_.busy() || motion_.planned() > 0 || dwell_until_ > 0; }
   void set_pen(bool down);
+  motion::Vec3 traced_position() const;  // the caller holds m_
 
   GrblSimConfig cfg_;
   std::map<int, double> settings_;

@@ -28,6 +28,25 @@ std::vector<double> hpgl_numbers(std::string_view params) {
 }
 
 namespace {
+constexpr std::string_view kPausePrefix = "CO\"stipplot pause: ";
+}  // namespace
+
+std::string hpgl_pause_instruction(const std::string& message) {
+  std::string m = message;
+  for (char& c : m)
+    if (c == '"' || c == ';' || c == '\n' || c == '\r') c = ' ';
+  return std::string(kPausePrefix) + m + "\";";
+}
+
+std::optional<std::string> hpgl_pause_message(std::string_view instruction) {
+  if (instruction.substr(0, kPausePrefix.size()) != kPausePrefix) return std::nullopt;
+  std::string_view rest = instruction.substr(kPausePrefix.size());
+  const size_t close = rest.find('"');
+  if (close == std::string_view::npos) return std::nullopt;
+  return std::string(rest.substr(0, close));
+}
+
+namespace {
 
 bool is_alpha(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; }
 
@@ -89,23 +108,19 @@ class HpglReader {
   // CO"stipplot pause: load pen ..."; none is sent (HP-GL plotters before HP-GL/2 reject CO).
   JobLine comment(size_t start) {
     while (i_ < text_.size() && text_[i_] == ' ') ++i_;
-    std::string body;
     if (i_ < text_.size() && text_[i_] == '"') {
       const size_t close = text_.find('"', i_ + 1);
       if (close == std::string::npos)
         throw UserError("HPGL: the comment CO at byte " + std::to_string(start) + " has no closing quote");
-      body = text_.substr(i_ + 1, close - i_ - 1);
       i_ = close + 1;
     }
     while (i_ < text_.size() && text_[i_] != ';' && !is_alpha(text_[i_])) ++i_;
     if (i_ < text_.size() && text_[i_] == ';') ++i_;
     JobLine jl = passed_through(start);
     jl.host_only = true;
-    static const std::string kPause = "stipplot pause:";
-    if (body.rfind(kPause, 0) == 0) {
+    if (std::optional<std::string> m = hpgl_pause_message(jl.text)) {
       jl.pause = true;
-      jl.note = body.substr(kPause.size());
-      if (!jl.note.empty() && jl.note[0] == ' ') jl.note.erase(0, 1);
+      jl.note = *m;
     }
     return jl;
   }

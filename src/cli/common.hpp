@@ -58,6 +58,8 @@ void write_planned_output(const Drawing& d, const std::string& path, const std::
 
 // "1 layer", "3 layers".
 std::string layers_phrase(size_t n);
+// "297 x 210 mm".
+std::string sheet_phrase(const Page& page);
 
 double seconds_since(std::chrono::steady_clock::time_point t0);
 

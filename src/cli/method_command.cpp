@@ -1,8 +1,10 @@
 #include "cli/method_command.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <sstream>
 
+#include "cli/layout_options.hpp"
 #include "eval/fidelity.hpp"
 #include "preview/preview.hpp"
 #include "svg/svg_writer.hpp"
@@ -15,6 +17,9 @@ struct MethodCommand::Args {
   std::string input, output, preview;
   std::string profile = "grbl-servo";  // for .gcode/.hpgl outputs
   PlanArgs plan;                       // for .gcode/.hpgl outputs
+  LayoutArgs layout;                   // for outputs to a device, or when asked
+  CLI::Option* profile_option = nullptr;
+  CLI::Option* page_option = nullptr;
   double preview_dpi = 150;
   uint64_t max_pixels = 100'000'000;
   PlacementArgs place;
@@ -72,15 +77,19 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
   cmd->add_option("-o,--output", a.output,
                   "Output file: .svg (the drawing), .gcode (grbl) or .hpgl (planned for --profile)")
       ->required()->group("Output");
-  cmd->add_option("--profile", a.profile, "Device profile NAME or PATH for .gcode/.hpgl (see `stipplot profiles`)")
-      ->capture_default_str()->group("Output");
+  a.profile_option =
+      cmd->add_option("--profile", a.profile,
+                      "Device profile NAME or PATH for .gcode/.hpgl, whose sheet is the default page (see `stipplot profiles`)")
+          ->capture_default_str()->group("Output");
   add_plan_options(cmd, a.plan);
+  add_layout_options(cmd, a.layout, false);
   cmd->add_option("--preview", a.preview, "Also write a preview PNG of what the pens will draw")->group("Output");
   cmd->add_option("--preview-dpi", a.preview_dpi, "Preview resolution")->capture_default_str()->group("Output");
   add_report_options(cmd, a.report);
   cmd->add_option("--max-pixels", a.max_pixels, "Refuse images with more pixels than this")
       ->capture_default_str()->group("Input");
   add_placement_options(cmd, a.place);
+  a.page_option = cmd->get_option("--page");
   m->cmd_ = cmd;
   // The app owns the callback, the callback keeps the command alive.
   cmd->callback([m] { m->run(); });
@@ -111,15 +120,45 @@ void MethodCommand::check_outputs() const {
     if (!p->path.empty()) require_png_path(p->option, p->path);
 }
 
+namespace {
+
+// The device a method's drawing is laid out for: the profile of a .gcode/.hpgl output, or
+// one named with --profile for an SVG; none for a plain SVG.
+std::optional<DeviceProfile> layout_device(const std::string& output, const std::string& profile, bool profile_given) {
+  if (output_kind(output) == OutputKind::svg && !profile_given) return std::nullopt;
+  return find_profile(profile);
+}
+
+// A method's page for a device: the paper (--page, else the device's sheet), upright unless
+// --landscape (the layout turns it to the sheet), with a margin no narrower than the
+// border of the sheet the device cannot reach, so the drawing lands inside the travel.
+Placement placement_for_device(Placement p, const LayoutArgs& sheet_args, const DeviceProfile& device, bool page_given) {
+  const Page sheet = sheet_for(sheet_args, device);
+  if (!page_given) p.page = {std::min(sheet.width_mm, sheet.height_mm), std::max(sheet.width_mm, sheet.height_mm)};
+  p.margin_mm = std::max(p.margin_mm, unreachable_border_mm(device, sheet));
+  return p;
+}
+
+}  // namespace
+
 void MethodCommand::run() const {
   const auto t0 = std::chrono::steady_clock::now();
   const Args& a = *args_;
   check_();
-  const Placement placement = a.place.resolve();
+  Placement placement = a.place.resolve();
   check_outputs();
+  check_layout_args(a.layout);
+  const bool page_given = a.page_option && a.page_option->count() > 0;
+  const auto device = layout_device(a.output, a.profile, a.profile_option && a.profile_option->count() > 0);
+  LayoutArgs sheet_args = a.layout;  // the method's own --page is the paper it is laid on
+  if (page_given) sheet_args.page = a.place.page;
+  if (device) placement = placement_for_device(placement, sheet_args, *device, page_given);
   LoadOptions lo;
   lo.max_pixels = a.max_pixels;
   const Image image = load_image(a.input, lo);
+  // For a device the page is turned like the photo: a landscape photo lies across it, a
+  // portrait one is turned to the sheet by the layout.
+  if (device && !a.place.landscape) placement.landscape = image.width > image.height;
   const auto t1 = std::chrono::steady_clock::now();
   MethodResult r = draw_(MethodInput{image, placement, !a.report.json && !a.report.quiet});
   const double method_s = seconds_since(t1);
@@ -130,16 +169,22 @@ void MethodCommand::run() const {
   s["image_px"] = {image.width, image.height};
   const PageTransform tf = placement.transform(image.width, image.height);
   MethodRun mr(image, tf, r, a.preview_dpi, s);
-  write_outputs(r, mr, s);
+  // -o gets the drawing laid out for the device; the preview and the measurements keep
+  // the method's page, where the image lies as the transform says.
+  std::string laid_out;
+  const bool lay_out = device || a.layout.any_given();
+  const Drawing out = lay_out ? lay_out_for_device(r.drawing, sheet_args, device ? &*device : nullptr,
+                                                   placement.margin_mm, s, laid_out)
+                              : Drawing{};
+  write_outputs(r, lay_out ? out : r.drawing, mr, s);
   if (r.measure) r.measure(mr);
   s["seconds_method"] = method_s;
   s["seconds"] = seconds_since(t0);
-  a.report.print(s, sentence(r, mr, s));
+  a.report.print(s, sentence(r, mr, s) + (laid_out.empty() ? "" : "; " + laid_out));
 }
 
-void MethodCommand::write_outputs(MethodResult& r, MethodRun& run, nlohmann::json& s) const {
+void MethodCommand::write_outputs(MethodResult& r, const Drawing& d, MethodRun& run, nlohmann::json& s) const {
   const Args& a = *args_;
-  const Drawing& d = r.drawing;
   if (output_kind(a.output) == OutputKind::svg) {
     write_svg(d, a.output);
     s["output"] = a.output;

@@ -104,7 +104,8 @@ class MethodCommand {
   MethodCommand() = default;
   void run() const;
   void check_outputs() const;
-  void write_outputs(MethodResult& r, MethodRun& run, nlohmann::json& s) const;
+  // `out` is the drawing for -o: r.drawing laid out for the device, or r.drawing itself.
+  void write_outputs(MethodResult& r, const Drawing& out, MethodRun& run, nlohmann::json& s) const;
   std::string sentence(const MethodResult& r, const MethodRun& run, const nlohmann::json& s) const;
 
   struct Args;

@@ -162,11 +162,19 @@ TEST_CASE("soft limits raise ALARM:2, settings check refuses a job beyond them",
   c.soft_limits = true;
   c.travel = {50, 50, 50};
   Run r = open_pty(c);
-  Job job = small_job(7, 10);  // reaches beyond 50 mm
-  grbl::Streamer st(*r.port, {});
+  Job job = small_job(7, 10);  // positive machine space
+  grbl::Options o;
+  o.unlock = true;  // $22=1 locks grbl at power-on until homed or unlocked
+  grbl::Streamer st(*r.port, o);
   st.connect();
   auto settings = st.read_settings();
   CHECK_THROWS_WITH(st.check_settings(settings, grbl::expectations_for(job)), Catch::Contains("ALARM:2"));
+  // grbl's sign convention: a job inside -$130..0 passes.
+  grbl::Expectations inside;
+  inside.min_x = -49, inside.min_y = -20;
+  CHECK_NOTHROW(st.check_settings(settings, inside));
+  inside.min_y = -51;
+  CHECK_THROWS_WITH(st.check_settings(settings, inside), Catch::Contains("-50.0..0"));
   try {
     st.stream(job, 0, {}, nullptr);
     FAIL("no alarm");
@@ -325,7 +333,8 @@ TEST_CASE("pause, resume and abort mid-job: the journal keeps what ran, resume d
   REQUIRE(sim.wait_idle(20));
   // Nothing lost, nothing drawn twice; the hold and the reset may cut the move under way
   // short, which the record shows as a piece of a planned segment.
-  const auto planned = job_segments(job), drawn = sim.record();
+  // The pen lifted in the hold and lowered on resume continues the same line.
+  const auto planned = job_segments(job), drawn = testjob::join_pieces(sim.record());
   auto d = testjob::compare(planned, drawn);
   INFO(d.str());
   CHECK(d.missing == 0);
