@@ -353,3 +353,40 @@ TEST_CASE("no device answering: a clear timeout naming the port", "[drivers][grb
   grbl::Streamer st(port, o);
   CHECK_THROWS_WITH(st.connect(), Catch::Contains("no answer from grbl") && Catch::Contains(silent.name()));
 }
+
+TEST_CASE("grbl M0 pen change: asked once grbl holds there with everything before it drawn, naming the pen",
+          "[drivers][grbl][pause]") {
+  const auto strokes = testjob::random_strokes(45, 10, 5);
+  const testjob::Strokes a(strokes.begin(), strokes.begin() + 5), b(strokes.begin() + 5, strokes.end());
+  std::string first = testjob::gcode(a);
+  first.resize(first.rfind("G0 X0 Y0\n"));  // no return to zero mid-job
+  const std::string text = first + "M0 (MSG,Change pen: pen 2 red #ff0000)\n" + testjob::gcode(b);
+  const Job job = parse_gcode_job(text);
+  const size_t before = job_segments(parse_gcode_job(first)).size();
+  long pause_line = -1;
+  for (size_t i = 0; i < job.lines.size(); ++i)
+    if (job.lines[i].pause) pause_line = static_cast<long>(i);
+  REQUIRE(pause_line > 0);
+  CHECK(job.pen_at(static_cast<size_t>(pause_line) + 1) == "Change pen: pen 2 red #ff0000");
+  Run r = open_pty(fast_config());
+  grbl::Options o;
+  size_t asked = 0, drawn_then = 0;
+  o.on_pause = [&](const PauseRequest& p) {
+    ++asked;
+    CHECK(p.line == pause_line);
+    CHECK(p.note == "Change pen: pen 2 red #ff0000");
+    drawn_then = r.sim->record().size();
+    return PauseAnswer::go;
+  };
+  grbl::Streamer st(*r.port, o);
+  st.connect();
+  const StreamResult res = st.stream(job, 0, {}, nullptr);
+  CHECK(res.completed);
+  CHECK(res.pauses == 1);
+  CHECK(asked == 1);
+  CHECK(drawn_then == before);
+  REQUIRE(r.sim->wait_idle(20));
+  auto d = testjob::compare(job_segments(job), r.sim->record());
+  INFO(d.str());
+  CHECK(d.equal());
+}

@@ -33,8 +33,9 @@ struct Options {
   bool skip_errors = false;            // error:N: warn and go on instead of stopping
   bool unlock = false;                 // $X if grbl starts in ALARM
   bool lift_on_pause = true;           // spindle-stop override in a hold (servo pens)
-  // A program pause (M0, pen change): return true to continue. Unset: continue at once.
-  std::function<bool(const std::string& line)> on_pause_m0;
+  // A pause of the job (M0: a pen change), asked once grbl holds there with everything
+  // before it done. Unset: continue at once.
+  PauseFn on_pause;
   std::function<void(const std::string&)> log;  // warnings and notes
 };
 
