@@ -111,8 +111,10 @@ PlotJob load_job(PlotArgs& A) {
   PlotJob pj;
   pj.resuming = !A.resume.empty();
   if (pj.resuming) {
-    pj.prepared = {A.resume, dialect_of(A.resume), A.profile, {}};
     pj.resume_state = io::Journal::load(io::Journal::path_for(A.resume));
+    // The profile the job was started with, unless another is named (then it must agree).
+    pj.prepared = {A.resume, dialect_of(A.resume), A.profile.empty() ? pj.resume_state.header.profile : A.profile, {}};
+    if (pj.resume_state.torn) A.log("the journal's last record was cut short (a crash mid-write): resuming from the one before");
     if (pj.resume_state.complete) throw UserError("job " + A.resume + " was already plotted to the end (journal says done)");
     if (A.port.empty() && !A.sim) A.port = pj.resume_state.header.port;
   } else {
@@ -122,12 +124,13 @@ PlotJob load_job(PlotArgs& A) {
   const std::string& path = pj.prepared.path;
   const std::string text = read_file(path);
   pj.hash = hex(io::fnv1a64(text));
-  if (pj.resuming && pj.resume_state.header.job_hash != pj.hash)
-    throw UserError("job " + path + " changed since it was started (its journal belongs to another version)");
   pj.device = plot_profile(pj.prepared.profile.empty() ? A.profile : pj.prepared.profile, pj.prepared.dialect);
   pj.pen_rule = gcode_pen_rule(pj.device);
   pj.job = pj.grbl() ? io::parse_gcode_job(text, pj.pen_rule) : io::parse_hpgl_job(text);
   if (pj.job.lines.empty()) throw UserError("job " + path + " has no lines to plot");
+  if (pj.resuming)
+    io::Journal::check_belongs(pj.resume_state, path, pj.hash, io::to_string(pj.prepared.dialect), pj.job.lines.size(),
+                               pj.prepared.profile);
   apply_overrides(A, pj.device, pj.grbl());
   // The timed plan: the ETA counts down the machine's own time (pauses take none).
   if (pj.grbl()) {

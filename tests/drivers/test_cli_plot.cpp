@@ -143,3 +143,31 @@ TEST_CASE("plot names the pen at start, pause and resume, and without a terminal
   CHECK(bad.text.find("--pen-change must be") != std::string::npos);
   fs::remove_all(dir);
 }
+
+TEST_CASE("plot --resume refuses a journal that is damaged or acknowledges beyond the job", "[cli][drivers][journal]") {
+  auto dir = scratch() / "journal";
+  fs::create_directories(dir);
+  const auto strokes = testjob::random_strokes(47, 6, 4);
+  std::string first = testjob::gcode(testjob::Strokes(strokes.begin(), strokes.begin() + 3));
+  first.resize(first.rfind("G0 X0 Y0\n"));
+  const std::string job = write_job(dir, "j.gcode", first + "M0 (MSG,Change pen: pen 2 red #ff0000)\n" +
+                                                        testjob::gcode(testjob::Strokes(strokes.begin() + 3, strokes.end())));
+  Out stopped = run("plot " + job + " --sim --sim-speedup 50 --pen-change stop -q < /dev/null");
+  REQUIRE(stopped.rc != 0);
+  const std::string journal = job + ".journal";
+  std::string kept;
+  {
+    std::ifstream in(journal);
+    kept.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  std::ofstream(journal, std::ios::app) << "ack 99999999\n";
+  Out forged = run("plot --resume " + job + " --sim -q < /dev/null");
+  CHECK(forged.rc != 0);
+  CHECK(forged.text.find("fails its checksum") != std::string::npos);
+  std::ofstream(journal) << kept;
+  std::ofstream(job, std::ios::app) << "G0 X1 Y1\n";  // the job edited since
+  Out other = run("plot --resume " + job + " --sim -q < /dev/null");
+  CHECK(other.rc != 0);
+  CHECK(other.text.find("belongs to another version") != std::string::npos);
+  fs::remove_all(dir);
+}
