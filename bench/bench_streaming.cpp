@@ -64,8 +64,8 @@ Outcome run(io::grbl::Mode mode, const io::Job& job) {
   c.speedup = g_speedup;
   c.link.baud = 115200;
   c.link.latency_ms = 4;
-  c.motion.accel_mm_s2 = 1000;
-  c.motion.junction_deviation_mm = 0.01;
+  c.machine.accel_mm_s2 = {1000, 1000, 1000};
+  c.machine.junction_deviation_mm = 0.01;
   sim::GrblSim sim(c);
   io::PosixSerial port(sim.open_pty(), {});
   io::grbl::Options o;

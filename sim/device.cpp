@@ -105,7 +105,8 @@ void SimDevice::disconnect(double t) {
   faults_.disconnect_after_bytes = -1;  // once; a reconnection then works
   on_disconnect(t);
   wire_in_.clear();
-  for (auto& [at, s] : wire_out_) link_->write(s);
+  for (auto& [at, s] : wire_out_)
+    if (client_present_) link_->write(s);
   wire_out_.clear();
   auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   while (link_->unread_by_client() > 0 && std::chrono::steady_clock::now() < until)
@@ -124,12 +125,21 @@ void SimDevice::serve() {
       if (new_link_) {
         new_link_ = false;
         linked = true;
+        client_present_ = false;
         wire_in_.clear();
         wire_out_.clear();
         on_connect(device_time());
       }
     }
     double t = device_time();
+    if (linked) {
+      const bool present = link_->client_present();
+      if (present && !client_present_) {
+        wire_in_.clear();
+        on_client_open(t);
+      }
+      client_present_ = present;
+    }
     double byte_t = linkm_.baud > 0 ? 10.0 / linkm_.baud : 0;
     // Deliver input bytes whose time has come, running the machine up to each.
     while (!wire_in_.empty() && wire_in_.front().t <= t) {
@@ -141,8 +151,9 @@ void SimDevice::serve() {
     advance(t);
     idle_flag_ = idle() && wire_in_.empty();
     // Replies whose time has come.
+    // Replies whose time has come; with nobody on the port they are lost, as on a wire.
     while (linked && !wire_out_.empty() && wire_out_.front().first <= t) {
-      link_->write(wire_out_.front().second);
+      if (client_present_) link_->write(wire_out_.front().second);
       wire_out_.pop_front();
     }
     // Sleep until the next thing to do, or input.

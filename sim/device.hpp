@@ -37,6 +37,7 @@ struct Faults {
   long error_line = -1;      // line K is rejected (grbl error:N, HPGL error 1)
   int error_code = 20;
   long alarm_line = -1;      // line K raises an alarm (grbl ALARM:1, HPGL not-ready)
+  long reset_line = -1;      // the controller resets when line K arrives (grbl: its reset input; HPGL: IN)
 };
 
 // How a simulator runs, whatever it simulates: its clock, its wire, its faults.
@@ -82,6 +83,8 @@ class SimDevice {
  protected:
   // All hooks run on the serving thread with the device clock at `t` (seconds).
   virtual void on_connect(double t) = 0;
+  // A client has opened the port (a pty seen opened): an Arduino's DTR reset, if modelled.
+  virtual void on_client_open(double) {}
   virtual void on_byte(char c, double t) = 0;
   virtual void advance(double t) = 0;      // run the machine up to t
   virtual double next_event() const = 0;   // device time of the next internal event
@@ -119,6 +122,7 @@ class SimDevice {
   double last_in_ = 0, last_out_ = 0;
   double idle_since_ = -1;
   bool ever_busy_ = false;
+  bool client_present_ = false;
   std::atomic<bool> idle_flag_{true};
 };
 

@@ -11,13 +11,6 @@ namespace stipplot::sim {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-// Start-stop move time (these plotters do little look-ahead).
-double move_time(double len, double v, double a) {
-  if (len <= 0) return 0;
-  double d_acc = v * v / a;  // accelerate and decelerate
-  if (d_acc <= len) return 2 * v / a + (len - d_acc) / v;
-  return 2 * std::sqrt(len / a);
-}
 bool is_sep(char c) { return c == ';' || c == '\n' || c == '\r' || c == ' ' || c == '\t' || c == ','; }
 }  // namespace
 
@@ -36,6 +29,13 @@ HpglSimConfig hpgl_sim_config(const DeviceProfile& p) {
 
 HpglSim::HpglSim(const HpglSimConfig& cfg)
     : SimDevice(cfg), cfg_(cfg), vs_mm_s_(cfg.motion.speed_down_mm_s) {
+  plotter_.speed_down_mm_s = cfg.motion.speed_down_mm_s;
+  plotter_.speed_up_mm_s = cfg.motion.speed_up_mm_s;
+  plotter_.accel_mm_s2 = cfg.motion.accel_mm_s2;
+  plotter_.pen_lift_s = cfg.motion.pen_lift_s;
+  plotter_.pen_drop_s = cfg.motion.pen_drop_s;
+  plotter_.pen_change_s = cfg.motion.pen_change_s > 0 ? cfg.motion.pen_change_s : 1.0;
+  plotter_.units_per_mm = cfg.units_per_mm;
   if (cfg.buffer_bytes < 64) throw UserError("simulated HPGL plotter: buffer must be at least 64 bytes");
   if (!(cfg.units_per_mm > 0)) throw UserError("simulated HPGL plotter: units per mm must be > 0");
   if (cfg.xoff_free >= cfg.xon_free || cfg.xon_free > cfg.buffer_bytes)
@@ -216,7 +216,7 @@ double HpglSim::execute(const std::string& mn, const std::vector<double>& nums, 
   } else if (mn == "SP") {
     if (nums.size() > 1) error_ = 2;
     pen_down_ = false;
-    dur += m.pen_change_s > 0 ? m.pen_change_s : 1.0;  // the carousel turns
+    dur += plotter_.pen_change_s;  // the carousel turns
     std::lock_guard lk(m_);
     rec_.pen(false);
     rec_.set_pen_number(nums.empty() ? 0 : static_cast<int>(nums[0]));
@@ -229,11 +229,7 @@ double HpglSim::execute(const std::string& mn, const std::vector<double>& nums, 
     double cx = x_, cy = y_;
     for (size_t k = 0; k + 1 < nums.size(); k += 2) {
       double nx = absolute_ ? nums[k] : cx + nums[k], ny = absolute_ ? nums[k + 1] : cy + nums[k + 1];
-      double len = std::hypot(nx - cx, ny - cy) / cfg_.units_per_mm;
-      // Each axis has its own motor and acceleration limit, so a diagonal move may
-      // accelerate faster along its path (the planner's model too).
-      double umax = len > 0 ? std::max(std::fabs(nx - cx), std::fabs(ny - cy)) / cfg_.units_per_mm / len : 1;
-      dur += move_time(len, pen_down_ ? vs_mm_s_ : m.speed_up_mm_s, m.accel_mm_s2 / std::max(umax, 1e-9));
+      dur += motion::hpgl_move_seconds(plotter_, nx - cx, ny - cy, pen_down_ ? vs_mm_s_ : m.speed_up_mm_s);
       pending_moves_.push_back({nx, ny});
       cx = nx, cy = ny;
     }

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "drivers/device/profile.hpp"
+#include "drivers/motion/hpgl_motion.hpp"
 #include "drivers/motion/motion_params.hpp"
 #include "sim/device.hpp"
 
@@ -49,6 +50,7 @@ class HpglSim final : public SimDevice {
   int free_bytes() const { return cfg_.buffer_bytes - static_cast<int>(buf_.size()); }
 
   HpglSimConfig cfg_;
+  motion::HpglMotion plotter_;  // the job timer's model of the same plotter
   std::string buf_;            // bytes received, not yet executed
   size_t exec_bytes_ = 0;      // length of the instruction being executed (still in buf_)
   double busy_until_ = -1;     // end of the instruction being executed

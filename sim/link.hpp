@@ -18,12 +18,15 @@ class SimLink {
   virtual void write(std::string_view bytes) = 0;
   // Bytes written that the client has not read yet.
   virtual size_t unread_by_client() = 0;
+  // Someone has the port open (what is written while nobody has is lost).
+  virtual bool client_present() = 0;
   virtual void close() = 0;
   virtual std::string name() const = 0;
 };
 
-// openpty(): the slave path is what the driver opens. The simulator keeps the slave
-// open too, so the client may close and reopen the port; close() hangs the line up.
+// openpty(): the slave path is what the driver opens. The simulator holds only the
+// master, so it sees the client open and close the port (the master hangs up while no
+// slave is open) and the client may close and reopen it; close() hangs the line up.
 class PtyLink final : public SimLink {
  public:
   PtyLink();
@@ -31,11 +34,12 @@ class PtyLink final : public SimLink {
   long read(char* buf, size_t n, double timeout_s) override;
   void write(std::string_view bytes) override;
   size_t unread_by_client() override;
+  bool client_present() override;
   void close() override;
   std::string name() const override { return path_; }
 
  private:
-  int master_ = -1, slave_ = -1;
+  int master_ = -1;
   std::string path_;
 };
 
@@ -46,6 +50,7 @@ class PipeLink final : public SimLink {
   long read(char* buf, size_t n, double timeout_s) override;
   void write(std::string_view bytes) override { end_->write(bytes); }
   size_t unread_by_client() override { return end_->unread_by_peer(); }
+  bool client_present() override { return !end_->closed(); }
   void close() override { end_->close(); }
   std::string name() const override { return "pipe"; }
 

@@ -30,6 +30,7 @@ class Section {
       : t_(t), name_(std::move(name)), file_(file) {}
 
   bool has(const char* key) const { return t_ && t_->contains(key); }
+  bool present() const { return t_ != nullptr; }
 
   double number(const char* key, double lo, double hi) {
     const toml::node* n = get(key);
@@ -249,6 +250,23 @@ void read_hpgl(Section s, HpglSettings& h) {
   s.finish();
 }
 
+GrblSetup read_grbl(Section s, const MachineGeometry& m) {
+  GrblSetup g;
+  if (!s.present()) {  // steps follow the resolution; Z as X
+    g.steps_per_mm_x = g.steps_per_mm_y = g.steps_per_mm_z = 1.0 / m.resolution_mm;
+    return g;
+  }
+  g.given = true;
+  g.steps_per_mm_x = s.number("steps_per_mm_x", 0.01, 100000);
+  g.steps_per_mm_y = s.number("steps_per_mm_y", 0.01, 100000);
+  g.steps_per_mm_z = s.number("steps_per_mm_z", 0.01, 100000);
+  g.max_rate_z_mm_s = s.number("max_rate_z_mm_s", 0.01, 100000);
+  g.accel_z_mm_s2 = s.number("accel_z_mm_s2", 0.01, 1e6);
+  g.idle_lock_ms = s.number("idle_lock_ms", 0, 255);
+  s.finish();
+  return g;
+}
+
 // [serial]; its handshake key belongs to the HPGL settings.
 SerialSetup read_serial(Section s, bool hpgl, HpglSettings& h) {
   SerialSetup ser;
@@ -264,13 +282,14 @@ SerialSetup read_serial(Section s, bool hpgl, HpglSettings& h) {
                                                         {"buffer_query", HpglHandshake::buffer_query}});
   }
   ser.newline = s.boolean("newline");
+  if (s.has("watchdog_s")) ser.watchdog_s = s.number("watchdog_s", 1, 86400);
   s.finish();
   return ser;
 }
 
 DeviceProfile parse_table(const toml::table& root, const std::string& file) {
   DeviceProfile p;
-  static const std::set<std::string> kSections = {"machine", "motion", "pen", "hpgl", "serial"};
+  static const std::set<std::string> kSections = {"machine", "motion", "pen", "hpgl", "grbl", "serial"};
 
   Section top(&root, "", file);
   p.name = top.string("name");
@@ -288,6 +307,11 @@ DeviceProfile parse_table(const toml::table& root, const std::string& file) {
     read_hpgl(section("hpgl"), p.hpgl);
   } else if (root.contains("hpgl")) {
     throw UserError("profile " + file + ": section [hpgl] is only for protocol = \"hpgl\"");
+  }
+  if (!hpgl) {
+    p.grbl = read_grbl(Section(subtable(root, "grbl", file, false), "grbl", file), p.machine);
+  } else if (root.contains("grbl")) {
+    throw UserError("profile " + file + ": section [grbl] is only for protocol = \"grbl\"");
   }
   p.serial = read_serial(section("serial"), hpgl, p.hpgl);
   // Top-level: everything else must be a known section.

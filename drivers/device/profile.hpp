@@ -63,11 +63,26 @@ struct HpglSettings {
   HpglHandshake handshake = HpglHandshake::none;
 };
 
+// [grbl] (protocol grbl, optional): the machine's own settings the plan depends on, as
+// `$$` reports them, checked when plotting. $110/$111 are [motion] speed_up_mm_s,
+// $120/$121 accel_mm_s2, $11 junction_deviation_mm, $130/$131 the travel. Without the
+// section: steps from the resolution, Z like X, and grbl's default $1 of 25 ms.
+struct GrblSetup {
+  bool given = false;           // the profile has a [grbl] section
+  double steps_per_mm_x = 100, steps_per_mm_y = 100, steps_per_mm_z = 100;  // $100-$102
+  double max_rate_z_mm_s = 0;   // $112 / 60 (0: as X)
+  double accel_z_mm_s2 = 0;     // $122 (0: as X)
+  double idle_lock_ms = 25;     // $1: the stepper idle lock after every stop (255: none)
+};
+
 // [serial]
 struct SerialSetup {
   io::SerialSettings port;    // baud and flow control, as the transport takes them
   int rx_buffer_bytes = 128;  // grbl's serial RX buffer; HPGL: the plotter's buffer
   bool newline = true;        // end every command with '\n'
+  // Seconds the device may take nothing (no line answered, no buffer space freed, no
+  // motion) beyond what the job's own timing allows before the plot stops (optional key).
+  double watchdog_s = 20;
 };
 
 struct DeviceProfile {
@@ -79,6 +94,7 @@ struct DeviceProfile {
   MotionParams motion;
   PenSetup pen;
   HpglSettings hpgl;
+  GrblSetup grbl;
   SerialSetup serial;
 };
 

@@ -33,6 +33,31 @@ std::string clean_gcode_line(const std::string& raw) {
   return out.substr(b, e - b + 1);
 }
 
+// The comment text of a raw line: what is inside ( ) and after ';'.
+std::string comment_text(const std::string& raw) {
+  std::string out;
+  bool paren = false;
+  for (size_t i = 0; i < raw.size(); ++i) {
+    const char c = raw[i];
+    if (paren) {
+      if (c == ')') paren = false;
+      else out.push_back(c);
+      continue;
+    }
+    if (c == '(') paren = true;
+    else if (c == ';') {
+      out.append(raw, i + 1, std::string::npos);
+      break;
+    }
+  }
+  while (!out.empty() && (out.back() == '\r' || out.back() == ' ')) out.pop_back();
+  size_t b = out.find_first_not_of(' ');
+  return b == std::string::npos ? std::string() : out.substr(b);
+}
+
+// A layer comment as the G-code writer writes it: "layer 2 pen red (#ff0000)".
+bool is_layer_comment(const std::string& c) { return c.rfind("layer ", 0) == 0 && c.find(" pen ") != std::string::npos; }
+
 int g_code_x10(double value) { return static_cast<int>(std::lround(value * 10)); }  // G0.1 steps: G4 = 40
 
 // Where the tool is and what the spindle does, as the program has set them so far.
@@ -46,6 +71,8 @@ struct ToolState {
 };
 
 }  // namespace
+
+std::string gcode_line_text(const std::string& raw) { return clean_gcode_line(raw); }
 
 std::vector<GcodeWord> gcode_words(const std::string& line) {
   std::vector<GcodeWord> w;
@@ -97,11 +124,20 @@ Job parse_gcode_job(const std::string& text, const GcodePenRule& rule) {
   std::istringstream in(text);
   std::string raw;
   constexpr double rapid_mm_s = 100;
+  std::string pending_label;
   while (std::getline(in, raw)) {
     std::string line = clean_gcode_line(raw);
-    if (line.empty()) continue;
+    const std::string comment = comment_text(raw);
+    if (line.empty()) {
+      if (is_layer_comment(comment)) pending_label = comment;
+      continue;
+    }
     JobLine jl;
     jl.text = line;
+    if (!pending_label.empty()) {
+      job.pens.push_back({job.lines.size(), pending_label});
+      pending_label.clear();
+    }
     double nx = st.x, ny = st.y, nz = st.z;
     bool axis = false;
     double dwell = 0;
@@ -115,6 +151,12 @@ Job parse_gcode_job(const std::string& text, const GcodePenRule& rule) {
           int m = static_cast<int>(std::lround(w.value));
           if (m == 3 || m == 4) st.spindle = true;
           if (m == 5 || m == 2 || m == 30) st.spindle = false;
+          if (m == 0 || m == 1) {
+            // grbl holds at M0 until cycle start: the host asks the operator (a pen change).
+            jl.pause = true;
+            jl.note = comment.rfind("MSG,", 0) == 0 ? comment.substr(4) : comment;
+            if (jl.note.empty()) jl.note = "program pause (M" + std::to_string(m) + ")";
+          }
           break;
         }
         case 'S': st.s = w.value; break;
@@ -143,6 +185,7 @@ Job parse_gcode_job(const std::string& text, const GcodePenRule& rule) {
     jl.x = st.x;
     jl.y = st.y;
     jl.pen_down = gcode_pen_down(st.spindle, st.s, st.z, rule);
+    if (jl.pause && comment.rfind("MSG,", 0) == 0) job.pens.push_back({job.lines.size(), jl.note});
     job.est_total_s += jl.est_s;
     job.lines.push_back(std::move(jl));
   }

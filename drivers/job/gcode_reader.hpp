@@ -20,6 +20,9 @@ bool gcode_pen_down(bool spindle_on, double s, double z, const GcodePenRule& rul
 
 // O(text length).
 Job parse_gcode_job(const std::string& text, const GcodePenRule& rule = {});
+// A raw line as the job keeps it: ( ) and ';' comments, '\r' and outer blanks dropped
+// ("" for a comment or blank line).
+std::string gcode_line_text(const std::string& raw);
 
 // A letter and its number ("X12.5"); '$' system commands and '%' tape marks have none.
 struct GcodeWord {

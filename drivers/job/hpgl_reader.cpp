@@ -64,6 +64,10 @@ class HpglReader {
       if (i_ >= text_.size()) break;
       JobLine line = text_[i_] == 0x1b ? device_control() : instruction();
       job.est_total_s += line.est_s;
+      if (line.text.rfind("SP", 0) == 0) {
+        const std::vector<double> n = hpgl_numbers(std::string_view(line.text).substr(2));
+        if (!n.empty() && n[0] > 0) job.pens.push_back({job.lines.size(), "pen " + std::to_string(static_cast<int>(n[0]))});
+      }
       job.lines.push_back(std::move(line));
     }
     return job;
@@ -76,15 +80,49 @@ class HpglReader {
       ++i_;
   }
 
-  JobLine passed_through(size_t start) const { return {text_.substr(start, i_ - start), false, down_, x_, y_, 0}; }
+  JobLine passed_through(size_t start) const {
+    JobLine jl;
+    jl.text = text_.substr(start, i_ - start);
+    jl.pen_down = down_;
+    jl.x = x_;
+    jl.y = y_;
+    return jl;
+  }
 
-  // ESC . x [params] terminator: passed through as its own "line".
+  // ESC . x [params] terminator: passed through as its own "line". An ESC that starts no
+  // complete device-control instruction would leave the plotter waiting for the rest.
   JobLine device_control() {
     const size_t start = i_;
+    if (i_ + 2 >= text_.size() || text_[i_ + 1] != '.')
+      throw UserError("HPGL: the ESC at byte " + std::to_string(i_) +
+                      " starts no device-control instruction (ESC . letter); the plotter would wait for the rest");
     i_ += 2;
     while (i_ < text_.size() && !(is_alpha(text_[i_]) || text_[i_] == ':')) ++i_;
-    if (i_ < text_.size()) ++i_;
+    if (i_ >= text_.size())
+      throw UserError("HPGL: the device-control instruction at byte " + std::to_string(start) + " has no terminator");
+    ++i_;
     return passed_through(start);
+  }
+
+  // CO"text": a comment for the host. stipplot's reload pauses are written as
+  // CO"stipplot pause: load pen ..."; none is sent (HP-GL plotters before HP-GL/2 reject CO).
+  JobLine comment(size_t start) {
+    while (i_ < text_.size() && text_[i_] == ' ') ++i_;
+    if (i_ < text_.size() && text_[i_] == '"') {
+      const size_t close = text_.find('"', i_ + 1);
+      if (close == std::string::npos)
+        throw UserError("HPGL: the comment CO at byte " + std::to_string(start) + " has no closing quote");
+      i_ = close + 1;
+    }
+    while (i_ < text_.size() && text_[i_] != ';' && !is_alpha(text_[i_])) ++i_;
+    if (i_ < text_.size() && text_[i_] == ';') ++i_;
+    JobLine jl = passed_through(start);
+    jl.host_only = true;
+    if (std::optional<std::string> m = hpgl_pause_message(jl.text)) {
+      jl.pause = true;
+      jl.note = *m;
+    }
+    return jl;
   }
 
   JobLine instruction() {
@@ -97,20 +135,13 @@ class HpglReader {
     i_ += 2;
     if (mn == "LB") {  // a label runs to ETX, whatever it holds
       while (i_ < n && text_[i_] != 0x03) ++i_;
-      if (i_ < n) ++i_;
+      if (i_ >= n)
+        throw UserError("HPGL: the label LB at byte " + std::to_string(start) +
+                        " has no terminator (ETX, 0x03); the plotter would take everything after it as text");
+      ++i_;
       return passed_through(start);
     }
-    if (mn == "CO") {  // a comment: a quoted string, whatever it holds
-      while (i_ < n && text_[i_] == ' ') ++i_;
-      if (i_ < n && text_[i_] == '"') {
-        ++i_;
-        while (i_ < n && text_[i_] != '"') ++i_;
-        if (i_ >= n) throw UserError("HPGL: CO comment at byte " + std::to_string(start) + " has no closing quote");
-        ++i_;
-      }
-      if (i_ < n && text_[i_] == ';') ++i_;
-      return passed_through(start);
-    }
+    if (mn == "CO") return comment(start);
     const size_t params = i_;
     while (i_ < n && text_[i_] != ';' && !is_alpha(text_[i_]) && text_[i_] != 0x1b) ++i_;
     const std::vector<double> nums = hpgl_numbers(std::string_view(text_).substr(params, i_ - params));

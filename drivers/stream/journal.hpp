@@ -18,11 +18,16 @@ struct JournalState {
   JournalHeader header;
   long last_acked = -1;  // index of the last line the device acknowledged
   bool complete = false;
+  bool torn = false;     // the last record was cut short (a crash mid-write): ignored
 };
 
-// Append-only file JOB.journal: a JSON header line, then "ack N" records and "done".
-// Records are fsync'd at most every `sync_interval_ms` while streaming (a host crash
-// may repeat that much), and always on sync() / close (device faults lose nothing).
+// Append-only file JOB.journal: a JSON header line, then "ack N" records and "done",
+// each line ending in " *" and the CRC-32 of what precedes it (8 hex digits). Records
+// are fsync'd at most every `sync_interval_ms` while streaming (a host crash may
+// repeat that much), and always on sync() / close (device faults lose nothing).
+// Reading it back, a last record cut short by a crash is detected and ignored; any
+// other record that fails its CRC, and any ack outside the job, make the journal
+// damaged: load() refuses it, naming the line.
 class Journal {
  public:
   static std::string path_for(const std::string& job_path) { return job_path + ".journal"; }
@@ -39,8 +44,14 @@ class Journal {
   void sync();
   long last_acked() const { return last_; }
   const std::string& path() const { return path_; }
-  // Throws UserError if missing or malformed.
+  // Throws UserError if missing, malformed or damaged. O(file size).
   static JournalState load(const std::string& path);
+  // A record as written, without its newline: "BODY *crc32".
+  static std::string record(const std::string& body);
+  // The journal belongs to this job (hash, dialect, line count) and profile (when both
+  // name one); throws UserError naming what differs.
+  static void check_belongs(const JournalState& st, const std::string& path, const std::string& job_hash,
+                            const std::string& dialect, size_t lines, const std::string& profile);
 
  private:
   void append_record(const std::string& rec, bool force_sync);

@@ -34,8 +34,10 @@ void StreamSession::report(size_t items_sent, const std::string& state, double x
   StreamProgress& pg = progress_;
   pg.elapsed_s = elapsed_s();
   pg.lines_sent = start_ + (items_sent > preamble_.size() ? items_sent - preamble_.size() : 0);
-  // ETA: the job's time model, corrected by how fast it has really gone.
-  const double ratio = est_done_ > 0.5 && pg.elapsed_s > 1 ? pg.elapsed_s / est_done_ : 1.0;
+  // ETA: the job's time model, corrected by how fast the device has really gone (the
+  // operator's pauses are not its time).
+  const double device_s = pg.elapsed_s - res_.paused_s;
+  const double ratio = est_done_ > 0.5 && device_s > 1 ? device_s / est_done_ : 1.0;
   pg.eta_s = std::max(0.0, job_.est_total_s - est_done_) * ratio;
   pg.state = state;
   pg.x = x;
@@ -55,6 +57,15 @@ void StreamSession::sync_journal() {
 void StreamSession::complete() {
   if (journal_) journal_->done();
   res_.completed = true;
+}
+
+void StreamSession::pause_begins() {
+  pause_t0_ = std::chrono::steady_clock::now();
+  ++res_.pauses;
+}
+
+void StreamSession::pause_ends() {
+  res_.paused_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - pause_t0_).count();
 }
 
 double StreamSession::elapsed_s() const {

@@ -35,6 +35,10 @@ class StreamSession {
   void complete();
   void all_lines_done() { progress_.lines_acked = job_.lines.size(); }
 
+  // The operator's time at a pause: not the device's, so the ETA leaves it out.
+  void pause_begins();
+  void pause_ends();
+
   double elapsed_s() const;
   StreamResult& result() { return res_; }
   const StreamResult& result() const { return res_; }
@@ -51,6 +55,7 @@ class StreamSession {
   StreamResult res_;
   StreamProgress progress_;
   double est_done_ = 0;  // the time model's seconds for the lines done
+  std::chrono::steady_clock::time_point pause_t0_{};
 };
 
 }  // namespace stipplot::io

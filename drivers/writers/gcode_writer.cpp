@@ -61,6 +61,7 @@ class GcodeEmitter {
     pen_up(true);
     for (size_t li = 0; li < plan_.layers.size(); ++li) {
       const PlannedLayer& layer = plan_.layers[li];
+      if (opt_.on_layer) opt_.on_layer(li);
       std::string label = "layer " + std::to_string(li + 1) + " pen " + layer.pen.name + " (" +
                           layer.pen.color.hex() + ")";
       if (li > 0) {
@@ -86,8 +87,11 @@ class GcodeEmitter {
   }
 
  private:
-  void emit(const std::string& line) { sink_(line); }
-  void comment(const std::string& text) { sink_("; " + text); }
+  void emit(const std::string& line) {
+    sink_(line);
+    if (opt_.also) opt_.also(line);
+  }
+  void comment(const std::string& text) { emit("; " + text); }
 
   void xy(std::string& line, Steps s) {
     line += " X";

@@ -6,6 +6,7 @@
 // (M0 (MSG,Change pen: pen 2 red #ff0000), which grbl shows and a streamer prompts at). Coordinates are in machine space (origin,
 // axis signs and offset from the profile) rounded to the profile's resolution; a plan
 // that leaves the travel is refused before the first line is produced.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,10 @@ namespace stipplot {
 
 struct GcodeOptions {
   bool comments = true;  // ';' comments naming the job and layers
+  // Optional observers, for timing what is written: every line as it is written, and
+  // the start of each layer (before its pen change).
+  LineSink also;
+  std::function<void(size_t layer)> on_layer;
 };
 
 // Calls `sink` with each line in order. O(total points) time, O(1) extra memory.

@@ -27,8 +27,12 @@ void check_protocol(const Plan& plan, const DeviceProfile& profile) {
 
 }  // namespace
 
-void write_hpgl(const Plan& plan, const DeviceProfile& profile, const LineSink& sink) {
+void write_hpgl(const Plan& plan, const DeviceProfile& profile, const LineSink& out, const HpglOptions& opt) {
   check_protocol(plan, profile);
+  const LineSink sink = !opt.also ? out : LineSink([&](std::string_view l) {
+    out(l);
+    opt.also(l);
+  });
   MachineTransform t(profile, plan.page);
   const size_t chunk = static_cast<size_t>(std::max(1, profile.hpgl.max_points_per_command));
   sink("IN;");
@@ -44,6 +48,7 @@ void write_hpgl(const Plan& plan, const DeviceProfile& profile, const LineSink& 
   std::string cmd;
   const std::vector<PenSlot> slots = plan_pen_slots(plan, profile.pen);
   for (size_t li = 0; li < plan.layers.size(); ++li) {
+    if (opt.on_layer) opt.on_layer(li);
     if (!slots[li].reload.empty()) {
       // Stow the pen, then the pause the streamer stops at (hpgl_reader.hpp).
       sink("SP0;");
@@ -87,10 +92,10 @@ std::vector<std::string> hpgl_commands(const Plan& plan, const DeviceProfile& pr
   return out;
 }
 
-void write_hpgl_file(const Plan& plan, const DeviceProfile& profile, const std::string& path) {
+void write_hpgl_file(const Plan& plan, const DeviceProfile& profile, const std::string& path, const HpglOptions& opt) {
   check_protocol(plan, profile);  // before the file is created
   write_lines_atomic(
-      path, [&](const LineSink& sink) { write_hpgl(plan, profile, sink); }, profile.serial.newline ? "\n" : "");
+      path, [&](const LineSink& sink) { write_hpgl(plan, profile, sink, opt); }, profile.serial.newline ? "\n" : "");
 }
 
 }  // namespace stipplot

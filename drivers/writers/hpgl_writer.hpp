@@ -9,6 +9,7 @@
 // Coordinates are integer plotter units (units_per_mm) with the profile's origin and axis
 // signs (y flipped for the usual lower-left origin). One command (ending in ';') a line;
 // the profile's `newline` says whether a file or a device gets '\n' after each.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,10 +19,18 @@
 
 namespace stipplot {
 
+// Optional observers, for timing what is written: every command as it is written, and
+// the start of each layer (before its SP).
+struct HpglOptions {
+  LineSink also;
+  std::function<void(size_t layer)> on_layer;
+};
+
 // Calls `sink` with each command in order. O(total points) time, O(1) extra memory.
-void write_hpgl(const Plan& plan, const DeviceProfile& profile, const LineSink& sink);
+void write_hpgl(const Plan& plan, const DeviceProfile& profile, const LineSink& sink, const HpglOptions& opt = {});
 std::vector<std::string> hpgl_commands(const Plan& plan, const DeviceProfile& profile);
 // Atomic: the file appears whole or not at all.
-void write_hpgl_file(const Plan& plan, const DeviceProfile& profile, const std::string& path);
+void write_hpgl_file(const Plan& plan, const DeviceProfile& profile, const std::string& path,
+                     const HpglOptions& opt = {});
 
 }  // namespace stipplot

@@ -16,10 +16,12 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/plot_job.hpp"
+#include "drivers/device/motion_setup.hpp"
 #include "drivers/device/pen_rule.hpp"
 #include "drivers/job/gcode_reader.hpp"
 #include "drivers/job/hpgl_reader.hpp"
 #include "drivers/job/segments.hpp"
+#include "drivers/job/timed_job.hpp"
 #include "drivers/stream/grbl/streamer.hpp"
 #include "drivers/stream/hpgl/streamer.hpp"
 #include "drivers/stream/journal.hpp"
@@ -45,7 +47,7 @@ struct PlotArgs {
   LayoutArgs layout;  // an SVG's layout on the profile's sheet
   bool page_given = false, flow_given = false, handshake_given = false, rx_buffer_given = false;
   bool sim = false, check = false, json = false, quiet = false, skip_errors = false, unlock = false, newline = false;
-  std::string stream = "counting", handshake = "escb", flow = "none";
+  std::string stream = "counting", handshake = "escb", flow = "none", pen_change = "ask";
   int baud = 0, rx_buffer = 128;
   double sim_speedup = 20, sim_baud = 115200, sim_latency_ms = 2;
   std::string sim_out, page = "A4";
@@ -56,6 +58,8 @@ struct PlotArgs {
     require_positive("--sim-speedup", sim_speedup);
     require_nonnegative("--sim-baud", sim_baud);
     require_nonnegative("--sim-latency-ms", sim_latency_ms);
+    if (pen_change != "ask" && pen_change != "continue" && pen_change != "stop")
+      throw UserError("--pen-change must be ask, continue or stop, not '" + pen_change + "'");
   }
   void log(const std::string& s) const {
     if (!quiet) std::fprintf(stderr, "stipplot: %s\n", s.c_str());
@@ -107,8 +111,10 @@ PlotJob load_job(PlotArgs& A) {
   PlotJob pj;
   pj.resuming = !A.resume.empty();
   if (pj.resuming) {
-    pj.prepared = {A.resume, dialect_of(A.resume), A.profile, {}};
     pj.resume_state = io::Journal::load(io::Journal::path_for(A.resume));
+    // The profile the job was started with, unless another is named (then it must agree).
+    pj.prepared = {A.resume, dialect_of(A.resume), A.profile.empty() ? pj.resume_state.header.profile : A.profile, {}};
+    if (pj.resume_state.torn) A.log("the journal's last record was cut short (a crash mid-write): resuming from the one before");
     if (pj.resume_state.complete) throw UserError("job " + A.resume + " was already plotted to the end (journal says done)");
     if (A.port.empty() && !A.sim) A.port = pj.resume_state.header.port;
   } else {
@@ -118,13 +124,23 @@ PlotJob load_job(PlotArgs& A) {
   const std::string& path = pj.prepared.path;
   const std::string text = read_file(path);
   pj.hash = hex(io::fnv1a64(text));
-  if (pj.resuming && pj.resume_state.header.job_hash != pj.hash)
-    throw UserError("job " + path + " changed since it was started (its journal belongs to another version)");
   pj.device = plot_profile(pj.prepared.profile.empty() ? A.profile : pj.prepared.profile, pj.prepared.dialect);
   pj.pen_rule = gcode_pen_rule(pj.device);
   pj.job = pj.grbl() ? io::parse_gcode_job(text, pj.pen_rule) : io::parse_hpgl_job(text);
   if (pj.job.lines.empty()) throw UserError("job " + path + " has no lines to plot");
+  if (pj.resuming)
+    io::Journal::check_belongs(pj.resume_state, path, pj.hash, io::to_string(pj.prepared.dialect), pj.job.lines.size(),
+                               pj.prepared.profile);
   apply_overrides(A, pj.device, pj.grbl());
+  // The timed plan: the ETA counts down the machine's own time (pauses take none).
+  if (pj.grbl()) {
+    io::GcodeLink link;
+    link.baud = pj.device.serial.port.baud;
+    link.rx_buffer = pj.device.serial.rx_buffer_bytes;
+    io::apply_timing(pj.job, io::time_gcode_job(pj.job, grbl_settings_for(pj.device), link));
+  } else {
+    io::apply_timing(pj.job, io::time_hpgl_job(pj.job, hpgl_motion_for(pj.device)));
+  }
   return pj;
 }
 
@@ -220,13 +236,40 @@ std::unique_ptr<io::Journal> open_journal(const PlotArgs& A, const PlotJob& pj, 
   return std::make_unique<io::Journal>(jpath, h);
 }
 
-// An M0 in the job: the operator changes the pen (the simulator, or no terminal: go on).
-bool ask_pen_change(const PlotArgs& A, const std::string& line) {
-  if (A.sim || !stdin_tty()) return true;
-  std::fprintf(stderr, "\nPause in the job (%s): change the pen, then press Enter (or type a to abort) ", line.c_str());
+// The job's pauses from `start` on (pen changes, reloads).
+std::vector<size_t> pauses_from(const io::Job& job, size_t start) {
+  std::vector<size_t> out;
+  for (size_t i = start; i < job.lines.size(); ++i)
+    if (job.lines[i].pause) out.push_back(i);
+  return out;
+}
+
+// Before anything moves: which pen is wanted now, and that every later pause will be
+// answered. Nobody at a terminal to ask would let the wrong pen draw every later layer.
+void announce_pens(const PlotArgs& A, const PlotJob& pj) {
+  const std::string pen = pj.job.pen_at(pj.start());
+  if (!pen.empty()) A.log(std::string(pj.resuming ? "resuming with " : "starting with ") + pen + ": is it in the holder?");
+  const std::vector<size_t> pauses = pauses_from(pj.job, pj.start());
+  if (pauses.empty()) return;
+  A.log("the job pauses " + std::to_string(pauses.size()) + " time(s) for the operator; first at line " +
+        std::to_string(pauses[0] + 1) + ": " + pj.job.lines[pauses[0]].note);
+  if (A.pen_change == "ask" && !A.sim && !stdin_tty())
+    throw UserError("the job pauses " + std::to_string(pauses.size()) + " time(s) for a pen change (first: " +
+                    pj.job.lines[pauses[0]].note +
+                    ") and stdin is not a terminal to ask: pass --pen-change continue (go on at every pause) or "
+                    "--pen-change stop (stop at the next one; change the pen, then --resume)");
+}
+
+// A pause of the job: --pen-change says what to do; "ask" asks at the terminal (the
+// simulator has no operator: it goes on).
+io::PauseAnswer answer_pause(const PlotArgs& A, const io::PauseRequest& p) {
+  A.log("pause at line " + std::to_string(p.line + 1) + ": " + p.note);
+  if (A.pen_change == "continue" || (A.pen_change == "ask" && A.sim)) return io::PauseAnswer::go;
+  if (A.pen_change == "stop" || !stdin_tty()) return io::PauseAnswer::stop_after;
+  std::fprintf(stderr, "\n%s. Press Enter when done (or type a to abort) ", p.note.c_str());
   std::string answer;
-  std::getline(std::cin, answer);
-  return answer.empty() || (answer[0] != 'a' && answer[0] != 'A');
+  if (!std::getline(std::cin, answer)) return io::PauseAnswer::stop;
+  return answer.empty() || (answer[0] != 'a' && answer[0] != 'A') ? io::PauseAnswer::go : io::PauseAnswer::stop;
 }
 
 // grbl: connect, compare its settings with the job, check mode if asked, resume where
@@ -239,7 +282,7 @@ io::StreamResult run_grbl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
   o.skip_errors = A.skip_errors;
   o.unlock = A.unlock;
   o.log = [&A](const std::string& s) { A.log(s); };
-  o.on_pause_m0 = [&A](const std::string& line) { return ask_pen_change(A, line); };
+  o.on_pause = [&A](const io::PauseRequest& p) { return answer_pause(A, p); };
   io::grbl::Streamer st(port, o);
   st.connect();
   for (const auto& w : st.check_settings(st.read_settings(), io::grbl::expectations_for(job))) A.log("warning: " + w);
@@ -263,6 +306,7 @@ io::StreamResult run_hpgl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
                           PlotProgress& progress) {
   io::hpgl::Options o = io::hpgl::options_for(pj.device);
   o.log = [&A](const std::string& s) { A.log(s); };
+  o.on_pause = [&A](const io::PauseRequest& p) { return answer_pause(A, p); };
   io::hpgl::Streamer st(port, o);
   st.connect();
   io::ResumePlan rp{pj.start(), {}};
@@ -316,6 +360,7 @@ void plot(PlotArgs& A) {
   auto t0 = std::chrono::steady_clock::now();
   A.validate();
   PlotJob pj = load_job(A);
+  announce_pens(A, pj);
   PlotLink link = open_link(A, pj);
   A.log("plotting " + pj.prepared.path + " (" + std::to_string(pj.job.lines.size()) + " lines) on " +
         link.port->describe());
@@ -344,6 +389,8 @@ void plot(PlotArgs& A) {
   s["lines_acked"] = res.lines_acked;
   s["errors_skipped"] = res.errors_skipped;
   s["warnings"] = res.warnings;
+  s["pauses"] = res.pauses;
+  s["paused_s"] = res.paused_s;
   if (link.sim) render_sim_record(A, pj, *link.sim, s);
   s["seconds"] = seconds_since(t0);
   print_result(A, pj, res, link.sim != nullptr, s);
@@ -382,6 +429,9 @@ void register_plot(CLI::App& app) {
   auto* fl = cmd->add_option("--flow", a->flow, "Serial flow control: none | xonxoff | rtscts (default: profile, none)");
   cmd->add_flag("--skip-errors", a->skip_errors, "grbl error:N: warn and continue instead of stopping");
   cmd->add_flag("--unlock", a->unlock, "grbl: send $X if it starts in ALARM");
+  cmd->add_option("--pen-change", a->pen_change,
+                  "At the job's pauses (pen changes, reloads): ask (at the terminal) | continue | stop (then --resume)")
+      ->capture_default_str();
   cmd->add_flag("--json", a->json, "One-line JSON summary on stdout; JSON progress lines on stderr");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar or notes");
   auto* g = "Simulator";

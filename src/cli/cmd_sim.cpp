@@ -24,7 +24,7 @@ struct SimArgs {
   std::string kind;
   double speedup = 1, baud = 0, latency_ms = 0;
   int rx_buffer = 128, buffer = 1024;
-  bool xonxoff = false, soft_limits = false;
+  bool xonxoff = false, soft_limits = false, homing = false, reset_on_open = false;
   double travel_x = 300, travel_y = 300;
   std::string record_png, record_svg, page = "A4";
   sim::Faults faults;
@@ -39,8 +39,9 @@ std::unique_ptr<sim::SimDevice> make_simulator(const SimArgs& a) {
     static_cast<sim::SimRun&>(c) = run;
     c.rx_buffer = a.rx_buffer;
     c.soft_limits = a.soft_limits;
-    c.travel_x = a.travel_x;
-    c.travel_y = a.travel_y;
+    c.homing = a.homing;
+    c.reset_on_open = a.reset_on_open;
+    c.travel = {a.travel_x, a.travel_y, 50};
     return std::make_unique<sim::GrblSim>(c);
   }
   sim::HpglSimConfig c;
@@ -104,7 +105,9 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--rx-buffer", a->rx_buffer, "grbl receive buffer bytes")->capture_default_str();
   cmd->add_option("--buffer", a->buffer, "HPGL input buffer bytes")->capture_default_str();
   cmd->add_flag("--xonxoff", a->xonxoff, "HPGL: send XOFF/XON as the buffer fills and drains");
-  cmd->add_flag("--soft-limits", a->soft_limits, "grbl: enable soft limits ($20=1, with homing $22=1)");
+  cmd->add_flag("--soft-limits", a->soft_limits, "grbl: enable soft limits ($20=1, with homing $22=1): machine space -$130..0");
+  cmd->add_flag("--homing", a->homing, "grbl: homing enabled ($22=1): locked in ALARM at power-on until $H or $X");
+  cmd->add_flag("--reset-on-open", a->reset_on_open, "grbl: reboot when a client opens the port, as an Arduino does (DTR)");
   cmd->add_option("--travel-x", a->travel_x, "grbl: X travel in mm ($130)")->capture_default_str();
   cmd->add_option("--travel-y", a->travel_y, "grbl: Y travel in mm ($131)")->capture_default_str();
   cmd->add_option("--record-png", a->record_png, "On exit, render what was drawn to this PNG");
@@ -118,6 +121,7 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--disconnect-after", a->faults.disconnect_after_bytes, "Hang up after N received bytes (then a new pty)")->group(g);
   cmd->add_option("--error-line", a->faults.error_line, "Reject line K (grbl error:20, HPGL error 1)")->group(g);
   cmd->add_option("--alarm-line", a->faults.alarm_line, "Alarm at line K (grbl ALARM:1, HPGL not ready)")->group(g);
+  cmd->add_option("--reset-line", a->faults.reset_line, "The controller resets when line K arrives (grbl: its reset input)")->group(g);
   cmd->add_flag("--once", a->once, "Exit when the first client has finished and the machine is idle (for scripts)")->group(g);
   cmd->callback([a] { run_sim(*a); });
 }

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "cli/job_estimate.hpp"
 #include "drivers/writers/gcode_writer.hpp"
 #include "drivers/writers/hpgl_writer.hpp"
 #include "drivers/device/machine.hpp"
@@ -104,10 +105,11 @@ void write_planned_output(const Drawing& d, const std::string& path, const std::
   Plan plan = plan_drawing(d, po, &plan_info);
   double plan_s = seconds_since(t0);
   auto t1 = std::chrono::steady_clock::now();
+  JobEstimate timed(prof);  // the written lines' own time, not the plan's
   if (kind == OutputKind::gcode) {
-    write_gcode_file(plan, prof, path);
+    write_gcode_file(plan, prof, path, timed.gcode_options());
   } else if (kind == OutputKind::hpgl) {
-    write_hpgl_file(plan, prof, path);
+    write_hpgl_file(plan, prof, path, timed.hpgl_options());
   } else {
     // the planned order is only checked against the device when it goes to one
     PlannedSvgOptions so;
@@ -118,6 +120,7 @@ void write_planned_output(const Drawing& d, const std::string& path, const std::
   summary["profile"] = prof.name;
   // A G-code job ends with the pen back at machine zero, an HPGL job where it stops.
   summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin, kind == OutputKind::gcode));
+  if (kind != OutputKind::svg) timed.apply(summary["plan"]);
   summary["seconds_plan"] = plan_s;
   // Only a tripped --optimize-seconds cap makes the plan depend on the machine's speed.
   summary["plan_capped"] = plan_info.budget_hit;

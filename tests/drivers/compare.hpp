@@ -40,6 +40,29 @@ inline Diff compare(const std::vector<stipplot::io::Segment>& planned, const std
   return d;
 }
 
+// Drawn pieces that continue each other on one straight line (end of one = start of the
+// next, same direction) joined: a pen lifted in a feed hold and lowered on resume at the
+// same point draws one line in two pieces. For jobs with no two collinear segments in a row.
+inline std::vector<stipplot::io::Segment> join_pieces(const std::vector<stipplot::io::Segment>& drawn, double tol = 1e-6) {
+  std::vector<stipplot::io::Segment> out;
+  for (const auto& s : drawn) {
+    if (!out.empty()) {
+      auto& p = out.back();
+      const double ax = p.x1 - p.x0, ay = p.y1 - p.y0, bx = s.x1 - s.x0, by = s.y1 - s.y0;
+      const bool joins = p.pen == s.pen && std::hypot(p.x1 - s.x0, p.y1 - s.y0) < tol;
+      const double la = std::hypot(ax, ay), lb = std::hypot(bx, by);
+      if (joins && la > 0 && lb > 0 && std::abs(ax * by - ay * bx) < 1e-9 * la * lb + tol * (la + lb) &&
+          ax * bx + ay * by > 0) {
+        p.x1 = s.x1;
+        p.y1 = s.y1;
+        continue;
+      }
+    }
+    out.push_back(s);
+  }
+  return out;
+}
+
 // Whether `s` lies along one planned segment of the same pen (a piece of it, or a touch
 // on it): what a plotter draws when a hold or a reset cuts a move short.
 inline bool along_planned(const stipplot::io::Segment& s, const std::vector<stipplot::io::Segment>& planned,

@@ -106,3 +106,68 @@ TEST_CASE("stipplot sim on a pty: plot --port, a disconnect, plot --resume", "[c
   CHECK(again.text.find("already plotted") != std::string::npos);
   fs::remove_all(dir);
 }
+
+TEST_CASE("plot names the pen at start, pause and resume, and without a terminal needs --pen-change", "[cli][drivers][pause]") {
+  auto dir = scratch() / "pens";
+  fs::create_directories(dir);
+  const auto strokes = testjob::random_strokes(46, 8, 4);
+  std::string first = testjob::gcode(testjob::Strokes(strokes.begin(), strokes.begin() + 4));
+  first.resize(first.rfind("G0 X0 Y0\n"));
+  const std::string job = write_job(dir, "pens.gcode",
+                                    "; layer 1 pen black (#000000)\n" + first +
+                                        "M0 (MSG,Change pen: pen 2 red #ff0000)\n" +
+                                        testjob::gcode(testjob::Strokes(strokes.begin() + 4, strokes.end())));
+  // No terminal to ask, no --pen-change: refused before any port is opened.
+  Out refused = run("plot " + job + " --port /dev/stipplot-no-such-port < /dev/null");
+  CHECK(refused.rc != 0);
+  CHECK(refused.text.find("--pen-change") != std::string::npos);
+  CHECK(refused.text.find("Change pen: pen 2 red #ff0000") != std::string::npos);
+  CHECK(refused.text.find("no-such-port") == std::string::npos);
+  // stop: the plot stops at the pause, which counts as done; resume names the pen needed.
+  Out stopped = run("plot " + job + " --sim --sim-speedup 50 --pen-change stop < /dev/null");
+  CHECK(stopped.rc != 0);
+  CHECK(stopped.text.find("starting with layer 1 pen black (#000000)") != std::string::npos);
+  CHECK(stopped.text.find("stopped at the pause on line") != std::string::npos);
+  CHECK(stopped.text.find("--resume") != std::string::npos);
+  Out resumed = run("plot --resume " + job + " --sim --sim-speedup 50 --pen-change stop --json < /dev/null");
+  CHECK(resumed.rc == 0);
+  CHECK(resumed.text.find("resuming with Change pen: pen 2 red #ff0000") != std::string::npos);
+  // continue: every pause passed, the simulator draws the whole job.
+  Out go = run("plot " + job + " --sim --sim-speedup 50 --pen-change continue --json -q < /dev/null");
+  REQUIRE(go.rc == 0);
+  auto j = nlohmann::json::parse(go.text.substr(go.text.rfind("{\"command\"")));
+  CHECK(j["pauses"] == 1);
+  CHECK(j["sim_exact"] == true);
+  Out bad = run("plot " + job + " --sim --pen-change maybe < /dev/null");
+  CHECK(bad.rc != 0);
+  CHECK(bad.text.find("--pen-change must be") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("plot --resume refuses a journal that is damaged or acknowledges beyond the job", "[cli][drivers][journal]") {
+  auto dir = scratch() / "journal";
+  fs::create_directories(dir);
+  const auto strokes = testjob::random_strokes(47, 6, 4);
+  std::string first = testjob::gcode(testjob::Strokes(strokes.begin(), strokes.begin() + 3));
+  first.resize(first.rfind("G0 X0 Y0\n"));
+  const std::string job = write_job(dir, "j.gcode", first + "M0 (MSG,Change pen: pen 2 red #ff0000)\n" +
+                                                        testjob::gcode(testjob::Strokes(strokes.begin() + 3, strokes.end())));
+  Out stopped = run("plot " + job + " --sim --sim-speedup 50 --pen-change stop -q < /dev/null");
+  REQUIRE(stopped.rc != 0);
+  const std::string journal = job + ".journal";
+  std::string kept;
+  {
+    std::ifstream in(journal);
+    kept.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  std::ofstream(journal, std::ios::app) << "ack 99999999\n";
+  Out forged = run("plot --resume " + job + " --sim -q < /dev/null");
+  CHECK(forged.rc != 0);
+  CHECK(forged.text.find("fails its checksum") != std::string::npos);
+  std::ofstream(journal) << kept;
+  std::ofstream(job, std::ios::app) << "G0 X1 Y1\n";  // the job edited since
+  Out other = run("plot --resume " + job + " --sim -q < /dev/null");
+  CHECK(other.rc != 0);
+  CHECK(other.text.find("belongs to another version") != std::string::npos);
+  fs::remove_all(dir);
+}

@@ -160,14 +160,21 @@ TEST_CASE("ALARM stops, explains, and leaves the port usable", "[drivers][grbl][
 TEST_CASE("soft limits raise ALARM:2, settings check refuses a job beyond them", "[drivers][grbl][faults]") {
   sim::GrblSimConfig c = fast_config();
   c.soft_limits = true;
-  c.travel_x = 50;
-  c.travel_y = 50;
+  c.travel = {50, 50, 50};
   Run r = open_pty(c);
-  Job job = small_job(7, 10);  // reaches beyond 50 mm
-  grbl::Streamer st(*r.port, {});
+  Job job = small_job(7, 10);  // positive machine space
+  grbl::Options o;
+  o.unlock = true;  // $22=1 locks grbl at power-on until homed or unlocked
+  grbl::Streamer st(*r.port, o);
   st.connect();
   auto settings = st.read_settings();
   CHECK_THROWS_WITH(st.check_settings(settings, grbl::expectations_for(job)), Catch::Contains("ALARM:2"));
+  // grbl's sign convention: a job inside -$130..0 passes.
+  grbl::Expectations inside;
+  inside.min_x = -49, inside.min_y = -20;
+  CHECK_NOTHROW(st.check_settings(settings, inside));
+  inside.min_y = -51;
+  CHECK_THROWS_WITH(st.check_settings(settings, inside), Catch::Contains("-50.0..0"));
   try {
     st.stream(job, 0, {}, nullptr);
     FAIL("no alarm");
@@ -326,7 +333,8 @@ TEST_CASE("pause, resume and abort mid-job: the journal keeps what ran, resume d
   REQUIRE(sim.wait_idle(20));
   // Nothing lost, nothing drawn twice; the hold and the reset may cut the move under way
   // short, which the record shows as a piece of a planned segment.
-  const auto planned = job_segments(job), drawn = sim.record();
+  // The pen lifted in the hold and lowered on resume continues the same line.
+  const auto planned = job_segments(job), drawn = testjob::join_pieces(sim.record());
   auto d = testjob::compare(planned, drawn);
   INFO(d.str());
   CHECK(d.missing == 0);
@@ -344,4 +352,41 @@ TEST_CASE("no device answering: a clear timeout naming the port", "[drivers][grb
   o.probe_timeout = Millis(300);
   grbl::Streamer st(port, o);
   CHECK_THROWS_WITH(st.connect(), Catch::Contains("no answer from grbl") && Catch::Contains(silent.name()));
+}
+
+TEST_CASE("grbl M0 pen change: asked once grbl holds there with everything before it drawn, naming the pen",
+          "[drivers][grbl][pause]") {
+  const auto strokes = testjob::random_strokes(45, 10, 5);
+  const testjob::Strokes a(strokes.begin(), strokes.begin() + 5), b(strokes.begin() + 5, strokes.end());
+  std::string first = testjob::gcode(a);
+  first.resize(first.rfind("G0 X0 Y0\n"));  // no return to zero mid-job
+  const std::string text = first + "M0 (MSG,Change pen: pen 2 red #ff0000)\n" + testjob::gcode(b);
+  const Job job = parse_gcode_job(text);
+  const size_t before = job_segments(parse_gcode_job(first)).size();
+  long pause_line = -1;
+  for (size_t i = 0; i < job.lines.size(); ++i)
+    if (job.lines[i].pause) pause_line = static_cast<long>(i);
+  REQUIRE(pause_line > 0);
+  CHECK(job.pen_at(static_cast<size_t>(pause_line) + 1) == "Change pen: pen 2 red #ff0000");
+  Run r = open_pty(fast_config());
+  grbl::Options o;
+  size_t asked = 0, drawn_then = 0;
+  o.on_pause = [&](const PauseRequest& p) {
+    ++asked;
+    CHECK(p.line == pause_line);
+    CHECK(p.note == "Change pen: pen 2 red #ff0000");
+    drawn_then = r.sim->record().size();
+    return PauseAnswer::go;
+  };
+  grbl::Streamer st(*r.port, o);
+  st.connect();
+  const StreamResult res = st.stream(job, 0, {}, nullptr);
+  CHECK(res.completed);
+  CHECK(res.pauses == 1);
+  CHECK(asked == 1);
+  CHECK(drawn_then == before);
+  REQUIRE(r.sim->wait_idle(20));
+  auto d = testjob::compare(job_segments(job), r.sim->record());
+  INFO(d.str());
+  CHECK(d.equal());
 }

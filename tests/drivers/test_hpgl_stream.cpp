@@ -14,6 +14,7 @@
 #include "fast_sim.hpp"
 #include "jobgen.hpp"
 #include "sim/hpgl_sim.hpp"
+#include "test_util.hpp"
 
 using namespace stipplot;
 using namespace stipplot::io;
@@ -169,4 +170,77 @@ TEST_CASE("HPGL: a vanished port leaves a journal, resume loses nothing", "[driv
   CHECK(d.missing == 0);
   CHECK(d.extra == 0);
   std::filesystem::remove_all(dir);
+}
+
+namespace {
+
+// Two halves of a stroke job with the writer's reload pause between them.
+std::string hpgl_with_pause(std::string& first_half) {
+  const auto strokes = testjob::random_strokes(44, 12, 6);
+  const testjob::Strokes a(strokes.begin(), strokes.begin() + 6), b(strokes.begin() + 6, strokes.end());
+  first_half = testjob::hpgl(a);
+  return first_half + hpgl_pause_instruction("load pen 7 red #ff0000 in slot 1") + testjob::hpgl(b);
+}
+
+}  // namespace
+
+TEST_CASE("HPGL pause: stops with everything before it drawn, names the pen, never sends the comment",
+          "[drivers][hpgl][pause]") {
+  std::string first;
+  const Job job = parse_hpgl_job(hpgl_with_pause(first));
+  const size_t before = job_segments(parse_hpgl_job(first)).size();
+  long pause_line = -1;
+  for (size_t i = 0; i < job.lines.size(); ++i)
+    if (job.lines[i].pause) pause_line = static_cast<long>(i);
+  REQUIRE(pause_line > 0);
+  for (const bool polled : {true, false}) {
+    hpgl::Options o;
+    o.handshake = polled ? HpglHandshake::buffer_query : HpglHandshake::none;
+    size_t asked = 0, drawn_then = 0;
+    sim::HpglSim* plotter = nullptr;
+    o.on_pause = [&](const PauseRequest& p) {
+      ++asked;
+      CHECK(p.line == pause_line);
+      CHECK(p.note == "load pen 7 red #ff0000 in slot 1");
+      // The plotter has drawn what came before (the streamer waited for it).
+      drawn_then = plotter->record().size();
+      return PauseAnswer::go;
+    };
+    HpglRun run(fast(), o);
+    plotter = &run.sim;
+    StreamResult r = run.st.stream(job, 0, {}, nullptr);
+    CHECK(r.completed);
+    CHECK(r.pauses == 1);
+    CHECK(asked == 1);
+    CHECK(drawn_then == before);
+    REQUIRE(run.sim.wait_idle(20));
+    CHECK(run.sim.stats().errors == 0);  // no CO reached the plotter
+    auto d = testjob::compare(job_segments(job), run.sim.record());
+    INFO(d.str());
+    CHECK(d.equal());
+  }
+}
+
+TEST_CASE("HPGL pause answered stop: the journal ends before it, or with it as done (stop_after)", "[drivers][hpgl][pause]") {
+  std::string first;
+  const Job job = parse_hpgl_job(hpgl_with_pause(first));
+  long pause_line = -1;
+  for (size_t i = 0; i < job.lines.size(); ++i)
+    if (job.lines[i].pause) pause_line = static_cast<long>(i);
+  test::TempDir t;
+  for (const PauseAnswer answer : {PauseAnswer::stop, PauseAnswer::stop_after}) {
+    const std::string jpath = t.file(answer == PauseAnswer::stop ? "a.hpgl.journal" : "b.hpgl.journal");
+    hpgl::Options o;
+    o.on_pause = [&](const PauseRequest&) { return answer; };
+    HpglRun run(fast(), o);
+    JournalHeader h;
+    h.total_lines = job.lines.size();
+    {
+      Journal journal(jpath, h);
+      CHECK_THROWS_WITH(run.st.stream(job, 0, {}, &journal), Catch::Contains("stopped at the pause on line " +
+                                                                             std::to_string(pause_line + 1)));
+    }
+    const JournalState js = Journal::load(jpath);
+    CHECK(js.last_acked == (answer == PauseAnswer::stop ? pause_line - 1 : pause_line));
+  }
 }

@@ -166,22 +166,78 @@ TEST_CASE("journal: records survive, a torn record is ignored, rollback wins", "
   CHECK_FALSE(s.complete);
   {
     std::ofstream torn(path, std::ios::app);
-    torn << "ack 9";  // a last record without its newline still counts when whole
+    torn << Journal::record("ack 9");  // a last record without its newline still counts when whole
   }
   CHECK(Journal::load(path).last_acked == 9);
+  CHECK_FALSE(Journal::load(path).torn);
   {
     std::ofstream torn(path, std::ios::app);
-    torn << "\nack 7x";
+    torn << "\n" << Journal::record("ack 7").substr(0, 6);  // cut mid-write
   }
   CHECK(Journal::load(path).last_acked == 9);
+  CHECK(Journal::load(path).torn);
   {
-    Journal j(path, {}, true);
+    Journal j(path, {}, true);  // the torn tail is cut off before appending
     j.ack(9);
     j.done();
   }
   CHECK(Journal::load(path).complete);
+  CHECK_FALSE(Journal::load(path).torn);
   std::filesystem::remove(path);
   CHECK_THROWS_WITH(Journal::load(path), Catch::Contains("no journal"));
+}
+
+TEST_CASE("journal: a damaged record, an ack beyond the job or a torn number is refused, naming the line", "[drivers][journal]") {
+  auto path = (std::filesystem::temp_directory_path() / ("stipplot-jd-" + std::to_string(::getpid()))).string();
+  JournalHeader h;
+  h.job_path = "a.gcode";
+  h.job_hash = "123";
+  h.dialect = "gcode";
+  h.total_lines = 2451;
+  auto fresh = [&] {
+    Journal j(path, h, false, 0);
+    j.ack(2450);
+  };
+  auto append = [&](const std::string& raw) { std::ofstream(path, std::ios::app) << raw; };
+  fresh();
+  CHECK(Journal::load(path).last_acked == 2450);
+  // A record appended by hand (no checksum) is damage, not progress.
+  append("ack 99999999\n");
+  CHECK_THROWS_WITH(Journal::load(path), Catch::Contains("line 3 fails its checksum"));
+  // Even with a valid checksum, an ack beyond the job is refused.
+  fresh();
+  append(Journal::record("ack 99999999") + "\n");
+  CHECK_THROWS_WITH(Journal::load(path), Catch::Contains("`ack 99999999` is not a line of the job (it has 2451 lines)"));
+  // A record torn mid-number ("ack 2451" -> "ack 24") fails its checksum: the last one
+  // is ignored as torn, never read as line 24.
+  fresh();
+  append(Journal::record("ack 2440").substr(0, 6));
+  JournalState st = Journal::load(path);
+  CHECK(st.torn);
+  CHECK(st.last_acked == 2450);
+  // A flipped byte in the middle of the file.
+  fresh();
+  append(Journal::record("ack 2450") + "\n" + Journal::record("done") + "\n");
+  {
+    std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+    std::string all((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    const size_t at = all.find("ack 2450");
+    f.seekp(static_cast<std::streamoff>(at + 4));
+    f.put('3');
+  }
+  CHECK_THROWS_WITH(Journal::load(path), Catch::Contains("is damaged: line 2 fails its checksum"));
+  // The journal of another job, dialect or profile.
+  fresh();
+  st = Journal::load(path);
+  CHECK_THROWS_WITH(Journal::check_belongs(st, "a.gcode", "124", "gcode", 2451, ""), Catch::Contains("changed since"));
+  CHECK_THROWS_WITH(Journal::check_belongs(st, "a.gcode", "123", "gcode", 2452, ""), Catch::Contains("job of 2451 lines"));
+  h.profile = "grbl-servo";
+  fresh();
+  st = Journal::load(path);
+  CHECK_THROWS_WITH(Journal::check_belongs(st, "a.gcode", "123", "gcode", 2451, "grbl-z"),
+                    Catch::Contains("--profile grbl-servo"));
+  CHECK_NOTHROW(Journal::check_belongs(st, "a.gcode", "123", "gcode", 2451, "grbl-servo"));
+  std::filesystem::remove(path);
 }
 
 TEST_CASE("resume plans: lift, travel, restore the pen, dots are not touched twice", "[drivers][journal]") {

@@ -414,4 +414,20 @@ double firmware_plot_seconds(const FirmwareRecord& r, const PenRule& rule, int s
   return end - first->t_start;
 }
 
+double firmware_motion_seconds(const FirmwareRecord& r, int session) {
+  const SessionRecord* s = nullptr;
+  for (const SessionRecord& c : r.sessions)
+    for (const ExecutedBlock& b : c.blocks)
+      if (b.run != ExecutedBlock::Run::NotRun && (session < 0 || c.index == session)) s = &c;
+  if (!s) return 0;
+  const ExecutedBlock *first = nullptr, *last = nullptr;
+  for (const ExecutedBlock& b : s->blocks)
+    if (b.run != ExecutedBlock::Run::NotRun) {
+      if (!first) first = &b;
+      last = &b;
+    }
+  if (!first || last->t_end < 0 || first->t_start < 0) return -1;
+  return last->t_end - first->t_start;
+}
+
 }  // namespace firmware

@@ -173,5 +173,9 @@ Interpretation interpret(const FirmwareRecord& r, const PenRule& rule, const std
 // block to the start of the final pen-up return to the origin (the estimate leaves it
 // out), or to the end of the last block if the job does not return.
 double firmware_plot_seconds(const FirmwareRecord& r, const PenRule& rule, int session = -1);
+// From the start of the first block to the end of the last one (the final return
+// included), simulated seconds: what a whole job's motion took. -1 if the last block's
+// end is not known.
+double firmware_motion_seconds(const FirmwareRecord& r, int session = -1);
 
 }  // namespace firmware

@@ -48,7 +48,8 @@ TEST_CASE("sim grbl: banner, ok, errors, settings, status", "[sim][grbl]") {
 TEST_CASE("sim grbl: a move takes its trapezoid's time, hold freezes it, Ctrl-X in motion alarms", "[sim][grbl]") {
   sim::GrblSimConfig c;
   c.speedup = 20;
-  c.motion.accel_mm_s2 = 1000;
+  c.machine.accel_mm_s2 = {1000, 1000, 1000};
+  c.machine.idle_lock_s = 0;  // the trapezoid alone
   sim::GrblSim g(c);
   Talk k(g.connect_loopback());
   k.line();

@@ -212,19 +212,37 @@ class Streamer::JobRun {
     count_lost_replies(st);
   }
 
-  // A hold that is not ours is a program pause (M0): the pen change or whatever the job asks for.
+  // A hold that is not ours, with a pause of the job (M0) as the oldest line unanswered:
+  // grbl has done everything before it (M0 waits for the planner to empty) and waits for
+  // cycle start. Ask, then release it with '~' or stop there.
   void release_program_pause() {
     const size_t item = window_.oldest().item;
-    const std::string& text = session_.text(item);
-    const bool is_m0 = text.find("M0") != std::string::npos || text.find("M00") != std::string::npos;
-    if (!is_m0 || m0_released_ == static_cast<long>(item)) return;
-    const bool go = o_.on_pause_m0 ? o_.on_pause_m0(text) : true;
-    if (!go) {
-      session_.sync_journal();
-      throw UserError("stopped at the pause on line " + std::to_string(session_.job_line(item) + 1));
+    const long line = session_.job_line(item);
+    if (line < 0 || m0_released_ == static_cast<long>(item)) return;
+    const JobLine& jl = session_.job().lines[static_cast<size_t>(line)];
+    if (!jl.pause) return;
+    PauseAnswer answer = PauseAnswer::go;
+    if (o_.on_pause) {
+      session_.pause_begins();
+      answer = o_.on_pause({line, jl.note});
+      session_.pause_ends();
     }
+    if (answer != PauseAnswer::go) stop_at_pause(line, jl, answer);
     m0_released_ = static_cast<long>(item);
     s_.t_.write("~");
+  }
+
+  // The lines after the pause wait in grbl's buffer: a reset drops them. With stop_after
+  // the pause itself counts as done (the operator changes the pen before resuming).
+  [[noreturn]] void stop_at_pause(long line, const JobLine& jl, PauseAnswer answer) {
+    if (answer == PauseAnswer::stop_after) acknowledge(window_.answered());
+    try {
+      s_.soft_reset();
+    } catch (const TransportError&) {
+    }
+    session_.sync_journal();
+    throw UserError("stopped at the pause on line " + std::to_string(line + 1) + " (" + jl.note + ")" +
+                    (answer == PauseAnswer::stop_after ? ", counted as done: do it before resuming" : ""));
   }
 
   // Lost replies: grbl idle, its buffers empty, yet lines unanswered.

@@ -23,6 +23,8 @@ Expectations expectations_for(const Job& job) {
   for (const auto& l : job.lines) {
     e.travel_x = std::max(e.travel_x, l.x);
     e.travel_y = std::max(e.travel_y, l.y);
+    e.min_x = std::min(e.min_x, l.x);
+    e.min_y = std::min(e.min_y, l.y);
     const std::string& t = l.text;
     for (size_t i = 0; i < t.size(); ++i) {
       if ((t[i] == 'F' || t[i] == 'S') && i + 1 < t.size()) {
@@ -170,10 +172,14 @@ std::vector<std::string> Streamer::check_settings(const std::map<int, double>& s
     }
   }
   if (get(20) > 0) {
-    if ((get(130) >= 0 && e.travel_x > get(130) + 1e-6) || (get(131) >= 0 && e.travel_y > get(131) + 1e-6)) {
+    const double lim_x = get(130), lim_y = get(131);
+    const bool out = e.travel_x > 1e-6 || e.travel_y > 1e-6 || (lim_x >= 0 && e.min_x < -lim_x - 1e-6) ||
+                     (lim_y >= 0 && e.min_y < -lim_y - 1e-6);
+    if (out) {
       std::snprintf(b, sizeof b,
-                    "the job reaches %.1f x %.1f mm but grbl's soft limits ($130=%.1f, $131=%.1f) are smaller: it would stop with ALARM:2",
-                    e.travel_x, e.travel_y, get(130), get(131));
+                    "the job reaches X %.1f..%.1f, Y %.1f..%.1f mm but with soft limits ($20=1) grbl accepts only "
+                    "X -%.1f..0, Y -%.1f..0 ($130, $131): it would stop with ALARM:2",
+                    e.min_x, e.travel_x, e.min_y, e.travel_y, lim_x, lim_y);
       throw UserError(b);
     }
   }

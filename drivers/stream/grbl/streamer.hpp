@@ -33,8 +33,9 @@ struct Options {
   bool skip_errors = false;            // error:N: warn and go on instead of stopping
   bool unlock = false;                 // $X if grbl starts in ALARM
   bool lift_on_pause = true;           // spindle-stop override in a hold (servo pens)
-  // A program pause (M0, pen change): return true to continue. Unset: continue at once.
-  std::function<bool(const std::string& line)> on_pause_m0;
+  // A pause of the job (M0: a pen change), asked once grbl holds there with everything
+  // before it done. Unset: continue at once.
+  PauseFn on_pause;
   std::function<void(const std::string&)> log;  // warnings and notes
 };
 
@@ -44,7 +45,8 @@ Options options_for(const DeviceProfile& p);
 // What the profile expects of the machine, checked against $$.
 struct Expectations {
   double speed_mm_s = 0;    // fastest feed the job uses
-  double travel_x = 0, travel_y = 0;  // extent the job needs
+  double travel_x = 0, travel_y = 0;  // extent the job needs (largest X, Y)
+  double min_x = 0, min_y = 0;        // smallest X, Y the job reaches
   double max_s = 0;         // largest S word in the job
   bool laser = false;
 };
@@ -57,7 +59,8 @@ class Streamer {
   void connect();
   std::map<int, double> read_settings();
   // Warnings for settings that differ from what the job needs; throws UserError when
-  // the job cannot run (soft limits smaller than the job).
+  // the job cannot run: with soft limits ($20=1) grbl 1.1 accepts machine positions in
+  // -$130..0 (-$131..0 for Y) only, as its limits.c checks them.
   std::vector<std::string> check_settings(const std::map<int, double>& s, const Expectations& e);
   Status query_status(Millis timeout);
   // The pen as grbl reports it: down if the spindle runs (servo/laser) or Z is below

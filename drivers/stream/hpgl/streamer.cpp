@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <climits>
+#include <cstdint>
 #include <thread>
 
 #include "drivers/stream/device_error.hpp"
@@ -111,11 +112,16 @@ class Streamer::JobRun {
   JobRun(Streamer& s, const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
          const ProgressFn& progress, StreamControls* controls)
       : s_(s), o_(s.o_), session_(job, start, preamble, journal, progress), controls_(controls) {
-    // The whole byte stream, and where each item ends in it.
+    // The whole byte stream, and where each item ends in it. Host-only lines (comments,
+    // pauses) take no bytes: HP-GL/1 plotters answer CO with error 1.
     for (size_t i = 0; i < session_.items(); ++i) {
-      data_ += session_.text(i);
-      if (o_.newline) data_ += '\n';
+      const JobLine* jl = line_of(i);
+      if (!(jl && jl->host_only)) {
+        data_ += session_.text(i);
+        if (o_.newline) data_ += '\n';
+      }
       ends_.push_back(data_.size());
+      if (jl && jl->pause) pauses_.push_back(i);
     }
   }
 
@@ -143,9 +149,46 @@ class Streamer::JobRun {
 
   bool abort_requested() { return controls_ && controls_->abort.exchange(false); }
 
-  // Items whose bytes all lie within the first `executed` bytes are done.
+  const JobLine* line_of(size_t item) const {
+    const long line = session_.job_line(item);
+    return line < 0 ? nullptr : &session_.job().lines[static_cast<size_t>(line)];
+  }
+
+  // The next pause not yet passed (SIZE_MAX: none), and the bytes before it.
+  size_t pause_item() const { return next_pause_ < pauses_.size() ? pauses_[next_pause_] : SIZE_MAX; }
+  size_t send_limit() const { return pause_item() == SIZE_MAX ? data_.size() : ends_[pause_item()]; }
+  bool at_pause() const { return pause_item() != SIZE_MAX && sent_ == send_limit(); }
+
+  // Everything before the pause is drawn: ask; the pause counts as done once the
+  // operator says go (or with stop_after), so a resume after `stop` asks again.
+  void pause_here() {
+    const size_t item = pause_item();
+    const long line = session_.job_line(item);
+    const JobLine& jl = session_.job().lines[static_cast<size_t>(line)];
+    acknowledge_through(sent_);
+    PauseAnswer answer = PauseAnswer::go;
+    if (o_.on_pause) {
+      session_.pause_begins();
+      answer = o_.on_pause({line, jl.note});
+      session_.pause_ends();
+    }
+    if (answer == PauseAnswer::stop) {
+      session_.sync_journal();
+      throw UserError("stopped at the pause on line " + std::to_string(line + 1) + " (" + jl.note + ")");
+    }
+    ++next_pause_;
+    acknowledge_through(sent_);
+    if (answer == PauseAnswer::stop_after) {
+      session_.sync_journal();
+      throw UserError("stopped at the pause on line " + std::to_string(line + 1) + " (" + jl.note +
+                      "), counted as done: do it before resuming");
+    }
+  }
+
+  // Items whose bytes all lie within the first `executed` bytes are done, up to the
+  // next pause.
   void acknowledge_through(size_t executed) {
-    while (acked_upto_ < ends_.size() && ends_[acked_upto_] <= executed) {
+    while (acked_upto_ < ends_.size() && acked_upto_ < pause_item() && ends_[acked_upto_] <= executed) {
       const long line = session_.job_line(acked_upto_);
       if (line >= 0) session_.acknowledge(line);
       ++acked_upto_;
@@ -166,6 +209,11 @@ class Streamer::JobRun {
       const int free = s_.query('B');
       const size_t in_buffer = static_cast<size_t>(std::max(0, s_.buffer_ - free));
       acknowledge_through(sent_ > in_buffer ? sent_ - in_buffer : 0);
+      if (at_pause() && free >= s_.buffer_) {
+        if (o_.status_queries) wait_drawn();
+        pause_here();
+        continue;
+      }
       if (sent_ == data_.size() && free >= s_.buffer_) return true;
       if (clock::now() - last_status > Millis(500)) {
         check_status(false);
@@ -173,7 +221,7 @@ class Streamer::JobRun {
       }
       const bool paused = controls_ && controls_->pause.load();
       const size_t room = free > o_.reserve ? static_cast<size_t>(free - o_.reserve) : 0;
-      const size_t chunk = paused ? 0 : std::min(room, data_.size() - sent_);
+      const size_t chunk = paused ? 0 : std::min(room, send_limit() - sent_);
       if (chunk > 0) {
         s_.t_.write(std::string_view(data_).substr(sent_, chunk));
         sent_ += chunk;
@@ -186,8 +234,13 @@ class Streamer::JobRun {
   // XON/XOFF or hardware handshake: write in small pieces, watching for XOFF between
   // them; then wait until the plotter has drawn it all. False if aborted.
   bool stream_paced() {
-    while (sent_ < data_.size()) {
+    while (sent_ < data_.size() || at_pause()) {
       if (abort_requested()) return false;
+      if (at_pause()) {
+        if (o_.status_queries) wait_drawn();
+        pause_here();
+        continue;
+      }
       s_.pump(Millis(0));
       if (o_.handshake == HpglHandshake::xonxoff && s_.xoff_) {
         if (clock::now() - s_.xoff_since_ > o_.not_ready_timeout)
@@ -196,7 +249,7 @@ class Streamer::JobRun {
         s_.pump(Millis(20));
         continue;
       }
-      const size_t chunk = std::min<size_t>(64, data_.size() - sent_);
+      const size_t chunk = std::min<size_t>(64, send_limit() - sent_);
       s_.t_.write(std::string_view(data_).substr(sent_, chunk), Millis(60000));
       sent_ += chunk;
       acknowledge_through(sent_);  // without per-line acknowledgement, a line counts as done once written
@@ -267,7 +320,8 @@ class Streamer::JobRun {
   StreamControls* controls_;
   std::string data_;
   std::vector<size_t> ends_;  // end offset of each item in data_
-  size_t sent_ = 0, acked_upto_ = 0;
+  std::vector<size_t> pauses_;  // items that are pauses, in order
+  size_t sent_ = 0, acked_upto_ = 0, next_pause_ = 0;
 };
 
 StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,

@@ -30,6 +30,9 @@ struct Options {
   int retries = 3;              // a lost or garbled reply is asked again this often
   Millis poll_interval{20};
   Millis not_ready_timeout{60000};  // plotter not ready (lever up, view mode) this long: give up
+  // A pause of the job (the writer's reload comment, not sent): asked once the plotter
+  // has drawn everything before it. Unset: continue at once.
+  PauseFn on_pause;
   std::function<void(const std::string&)> log;
 };
 
