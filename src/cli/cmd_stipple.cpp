@@ -38,7 +38,7 @@ void register_stipple(CLI::App& app) {
         args->p.method = parse_stipple_method(args->method);
         args->p.validate();
       },
-      [args](const MethodInput& in) {
+      [args](const MethodInput& in) { return fixed_density([args, &in] {
         const StippleParams& p = args->p;
         // A bar only where it helps: big images on a terminal.
         Progress bar("stippling", 1000, in.image.pixels() >= 4'000'000 && in.show_progress);
@@ -49,7 +49,7 @@ void register_stipple(CLI::App& app) {
         r.counts = std::to_string(r.drawing.primitive_count()) + " dots in " + layers_phrase(r.drawing.layers.size()) +
                    " (" + to_string(p.method) + ", " + pixel_size(in.image) + ")";
         return r;
-      });
+      }); });
 }
 
 }  // namespace stipplot::cli

@@ -90,28 +90,37 @@ void check_profile_for(OutputKind kind, const std::string& path, const std::stri
     throw UserError("-o " + path + ": profile " + prof.name + " speaks G-code; write .gcode or use an HPGL profile");
 }
 
-void write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
-                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary) {
-  const OutputKind kind = output_kind(path);
-  DeviceProfile prof = find_profile(profile);
-  check_profile_for(kind, path, profile);
+PlanOptions plan_options_for(const DeviceProfile& profile, const Page& page, const PlanArgs& plan_args) {
   PlanOptions po = plan_args.resolve();
-  // The pen starts at machine zero: plan from there (in page coordinates).
-  po.origin = MachineTransform(prof, d.page).page_position_of_machine_zero();
-  auto t0 = std::chrono::steady_clock::now();
-  Plan plan = plan_drawing(d, po);
-  double plan_s = seconds_since(t0);
-  auto t1 = std::chrono::steady_clock::now();
+  po.origin = MachineTransform(profile, page).page_position_of_machine_zero();
+  return po;
+}
+
+void write_plan_file(const Plan& plan, const std::string& path, const DeviceProfile& profile, bool show_travel) {
+  const OutputKind kind = output_kind(path);
   if (kind == OutputKind::gcode) {
-    write_gcode_file(plan, prof, path);
+    write_gcode_file(plan, profile, path);
   } else if (kind == OutputKind::hpgl) {
-    write_hpgl_file(plan, prof, path);
+    write_hpgl_file(plan, profile, path);
   } else {
     // the planned order is only checked against the device when it goes to one
     PlannedSvgOptions so;
     so.show_travel = show_travel;
     write_planned_svg(plan, path, so);
   }
+}
+
+void write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
+                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary) {
+  const OutputKind kind = output_kind(path);
+  DeviceProfile prof = find_profile(profile);
+  check_profile_for(kind, path, profile);
+  const PlanOptions po = plan_options_for(prof, d.page, plan_args);
+  auto t0 = std::chrono::steady_clock::now();
+  Plan plan = plan_drawing(d, po);
+  double plan_s = seconds_since(t0);
+  auto t1 = std::chrono::steady_clock::now();
+  write_plan_file(plan, path, prof, show_travel);
   summary["output"] = path;
   summary["profile"] = prof.name;
   summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin));

@@ -1,9 +1,14 @@
 #include "cli/method_command.hpp"
 
 #include <algorithm>
+#include <map>
 #include <sstream>
 
+#include "budget/density_search.hpp"
+#include "budget/duration.hpp"
+#include "drivers/motion/plan_stats.hpp"
 #include "eval/fidelity.hpp"
+#include "plan/planner.hpp"
 #include "preview/preview.hpp"
 #include "svg/svg_writer.hpp"
 #include "util/atomic_file.hpp"
@@ -13,17 +18,29 @@ namespace stipplot::cli {
 
 struct MethodCommand::Args {
   std::string input, output, preview;
-  std::string profile = "grbl-servo";  // for .gcode/.hpgl outputs
-  PlanArgs plan;                       // for .gcode/.hpgl outputs
+  std::string profile = "grbl-servo";  // the plotter: its time model sets the budget, its writer .gcode/.hpgl
+  PlanArgs plan;
+  std::string time = "1h";             // the plot-time budget on the profile
   double preview_dpi = 150;
   uint64_t max_pixels = 100'000'000;
   PlacementArgs place;
   ReportArgs report;
 };
 
-MethodRun::MethodRun(const Image& in, const PageTransform& tf, const MethodResult& r, double preview_dpi,
-                     nlohmann::json& s)
-    : input(in), transform(tf), result(r), summary(s), preview_dpi_(preview_dpi) {}
+MethodRun::MethodRun(const Image& in, const PageTransform& tf, const MethodResult& r, const Plan& p,
+                     double preview_dpi, nlohmann::json& s)
+    : input(in), transform(tf), result(r), plan(p), summary(s), preview_dpi_(preview_dpi) {}
+
+namespace {
+// The one render of what will be drawn: the plan with real pens, or the drawing's
+// primitives in their screen colours.
+Image render_result(const MethodResult& r, const Plan& plan, double dpi, bool opaque) {
+  PreviewOptions po;
+  po.dpi = dpi;
+  po.ink_multiplies = !opaque && !r.screen_colours;
+  return r.screen_colours ? render_preview(r.drawing, po) : render_plan(plan, po);
+}
+}  // namespace
 
 void MethodRun::note(const std::string& label, double value) {
   std::ostringstream os;
@@ -38,10 +55,7 @@ const Image& MethodRun::preview_page() {
     if (result.render_preview) {
       preview_ = std::make_unique<Image>(result.render_preview(preview_dpi_));
     } else {
-      PreviewOptions po;
-      po.dpi = preview_dpi_;
-      po.ink_multiplies = result.ink_multiplies;
-      preview_ = std::make_unique<Image>(render_preview(result.drawing, po));
+      preview_ = std::make_unique<Image>(render_result(result, plan, preview_dpi_, false));
     }
   }
   return *preview_;
@@ -49,11 +63,17 @@ const Image& MethodRun::preview_page() {
 
 Image MethodRun::preview_over_image() { return crop_to_image(preview_page(), transform, input.width, input.height); }
 
-Image MethodRun::drawing_over_image(bool ink_multiplies) const {
-  PreviewOptions po;
-  po.dpi = std::clamp(25.4 / transform.mm_per_px(), 10.0, 2400.0);
-  po.ink_multiplies = ink_multiplies;
-  return crop_to_image(render_preview(result.drawing, po), transform, input.width, input.height);
+Image MethodRun::render_over_image(bool opaque) const {
+  // Pens of a few tenths of a millimetre need some pixels across to be measured right.
+  const double dpi = std::clamp(25.4 / transform.mm_per_px(), 150.0, 1200.0);
+  return crop_to_image(render_result(result, plan, dpi, opaque), transform, input.width, input.height);
+}
+
+MethodDraft fixed_density(std::function<MethodResult()> draw) {
+  MethodDraft d;
+  d.predict = [](double) { return 0.0; };
+  d.draw = [draw = std::move(draw)](double) { return draw(); };
+  return d;
 }
 
 std::string pixel_size(const Image& image) {
@@ -72,7 +92,13 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
   cmd->add_option("-o,--output", a.output,
                   "Output file: .svg (the drawing), .gcode (grbl) or .hpgl (planned for --profile)")
       ->required()->group("Output");
-  cmd->add_option("--profile", a.profile, "Device profile NAME or PATH for .gcode/.hpgl (see `stipplot profiles`)")
+  cmd->add_option("--profile", a.profile,
+                  "Device profile NAME or PATH (see `stipplot profiles`): the plotter the --time budget is for, and "
+                  "the writer of .gcode/.hpgl")
+      ->capture_default_str()->group("Output");
+  cmd->add_option("--time", a.time,
+                  "Plot-time budget on --profile (45min, 1h, 1.5h, 1h30min): the density is chosen so the planned "
+                  "plot fits it")
       ->capture_default_str()->group("Output");
   add_plan_options(cmd, a.plan);
   cmd->add_option("--preview", a.preview, "Also write a preview PNG of what the pens will draw")->group("Output");
@@ -93,16 +119,18 @@ void MethodCommand::add_png_output(const std::string& option, const std::string&
   cmd_->add_option(option, pngs_.back()->path, help)->group("Output");
 }
 
-void MethodCommand::define(std::function<void()> check, std::function<MethodResult(const MethodInput&)> draw) {
+void MethodCommand::define(std::function<void()> check, std::function<MethodDraft(const MethodInput&)> prepare) {
   check_ = std::move(check);
-  draw_ = std::move(draw);
+  prepare_ = std::move(prepare);
 }
 
 void MethodCommand::check_outputs() const {
   const Args& a = *args_;
   const OutputKind kind = output_kind(a.output);
   check_profile_for(kind, a.output, a.profile);
-  if (kind != OutputKind::svg) (void)a.plan.resolve();
+  (void)find_profile(a.profile);
+  (void)a.plan.resolve();
+  (void)budget::parse_duration(a.time);
   require_writable_dir(a.output);
   if (!a.preview.empty()) require_png_path("--preview", a.preview);
   require_range("--preview-dpi", a.preview_dpi, 10, 2400);
@@ -110,6 +138,48 @@ void MethodCommand::check_outputs() const {
   for (const auto& p : pngs_)
     if (!p->path.empty()) require_png_path(p->option, p->path);
 }
+
+namespace {
+
+// The budget's part of the summary and of the sentence.
+struct BudgetReport {
+  nlohmann::json json;
+  std::string words;
+};
+
+BudgetReport report_budget(const MethodDraft& draft, const budget::SearchOutcome& so, double budget_s,
+                           double plan_s, const std::string& profile) {
+  BudgetReport rep;
+  const double tone = draft.tone_share ? draft.tone_share(so.knob) : 1.0;
+  rep.json = {{"seconds", budget_s},        {"profile", profile},         {"knob", so.knob},
+              {"runs", so.runs},            {"quick_estimate_s", so.seconds}, {"predicted_s", so.predicted},
+              {"correction", so.correction}, {"finest", so.finest},        {"tone_share", tone},
+              {"ink_needed", draft.ink_needed}, {"ink_reached", tone * draft.ink_needed}};
+  std::ostringstream w;
+  w << "; plot " << budget::format_duration(plan_s) << " on " << profile << " (budget "
+    << budget::format_duration(budget_s) << ")";
+  if (tone < 0.995 && draft.tone_share) {
+    // The smallest knob with the full tone, and what the corrected prediction says it costs.
+    double lo = so.knob, hi = 1;
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (draft.tone_share(mid) < 0.995 ? lo : hi) = mid;
+    }
+    const double full_s = so.correction * draft.predict(hi);
+    rep.json["seconds_for_full_tone"] = full_s;
+    w.setf(std::ios::fixed);
+    w.precision(0);
+    w << "; tone " << 100 * tone << "% of the photo's (ink on " << 100 * tone * draft.ink_needed << "% of the area, "
+      << 100 * draft.ink_needed << "% needed): about --time " << budget::format_duration(full_s)
+      << " or a wider pen would reach it";
+  } else if (so.finest && plan_s < 0.8 * budget_s) {
+    w << "; the finest drawing needs no more";
+  }
+  rep.words = w.str();
+  return rep;
+}
+
+}  // namespace
 
 void MethodCommand::run() const {
   const auto t0 = std::chrono::steady_clock::now();
@@ -120,41 +190,64 @@ void MethodCommand::run() const {
   LoadOptions lo;
   lo.max_pixels = a.max_pixels;
   const Image image = load_image(a.input, lo);
+  const PageTransform tf = placement.transform(image.width, image.height);
+  const DeviceProfile prof = find_profile(a.profile);
+  const double budget_s = budget::parse_duration(a.time);
+  const PlanOptions po = plan_options_for(prof, Page{tf.page_w(), tf.page_h()}, a.plan);
+  const budget::MarkCosts costs(prof.motion, po);
+
   const auto t1 = std::chrono::steady_clock::now();
-  MethodResult r = draw_(MethodInput{image, placement, !a.report.json && !a.report.quiet});
+  // The draft may keep references to the input: it lives as long as the draft.
+  const MethodInput input{image, placement, costs, !a.report.json && !a.report.quiet};
+  const MethodDraft draft = prepare_(input);
+  // Every run is kept, so the search can fall back to an earlier one at no cost.
+  std::map<double, MethodResult> runs;
+  auto run_at = [&](double k) {
+    MethodResult r = draft.draw(k);
+    const double t = budget::quick_estimate_seconds(r.drawing, prof.motion, po);
+    runs[k] = std::move(r);
+    return t;
+  };
+  budget::SearchOptions so_opt;
+  so_opt.budget_s = budget_s;
+  const budget::SearchOutcome so = budget::choose_density(so_opt, draft.predict, run_at);
+  MethodResult r = std::move(runs.at(so.knob));
+  runs.clear();
   const double method_s = seconds_since(t1);
 
+  const auto t2 = std::chrono::steady_clock::now();
+  const Plan plan = plan_drawing(r.drawing, po);
+  const PlanStats stats = plan_stats(plan, prof.motion, po.origin);
   nlohmann::json s = r.summary;
   s["command"] = name_;
   s["input"] = a.input;
   s["image_px"] = {image.width, image.height};
-  const PageTransform tf = placement.transform(image.width, image.height);
-  MethodRun mr(image, tf, r, a.preview_dpi, s);
+  s["profile"] = prof.name;
+  s["plan"] = to_json(stats);
+  s["seconds_plan"] = seconds_since(t2);
+  const BudgetReport budget_report = report_budget(draft, so, budget_s, stats.total.seconds, prof.name);
+  s["budget"] = budget_report.json;
+  MethodRun mr(image, tf, r, plan, a.preview_dpi, s);
   write_outputs(r, mr, s);
   if (r.measure) r.measure(mr);
   s["seconds_method"] = method_s;
   s["seconds"] = seconds_since(t0);
-  a.report.print(s, sentence(r, mr, s));
+  a.report.print(s, sentence(r, mr, s, budget_report.words));
 }
 
 void MethodCommand::write_outputs(MethodResult& r, MethodRun& run, nlohmann::json& s) const {
   const Args& a = *args_;
   const Drawing& d = r.drawing;
+  const auto t0 = std::chrono::steady_clock::now();
   if (output_kind(a.output) == OutputKind::svg) {
     write_svg(d, a.output);
-    s["output"] = a.output;
   } else {
-    write_planned_output(d, a.output, a.profile, a.plan, false, s);
+    write_plan_file(run.plan, a.output, find_profile(a.profile), false);
   }
+  s["output"] = a.output;
+  s["seconds_write"] = seconds_since(t0);
   if (!a.preview.empty()) {
-    if (r.render_preview) {
-      write_png(run.preview_page(), a.preview);
-    } else {
-      PreviewOptions po;
-      po.dpi = a.preview_dpi;
-      po.ink_multiplies = r.ink_multiplies;
-      write_preview_png(d, a.preview, po);
-    }
+    write_png(run.preview_page(), a.preview);
     s["preview"] = a.preview;
   }
   for (const auto& p : pngs_) {
@@ -176,12 +269,13 @@ void MethodCommand::write_outputs(MethodResult& r, MethodRun& run, nlohmann::jso
   s["page_mm"] = {d.page.width_mm, d.page.height_mm};
 }
 
-std::string MethodCommand::sentence(const MethodResult& r, const MethodRun& run, const nlohmann::json& s) const {
+std::string MethodCommand::sentence(const MethodResult& r, const MethodRun& run, const nlohmann::json& s,
+                                    const std::string& budget_words) const {
   const Args& a = *args_;
   std::ostringstream h;
   h.setf(std::ios::fixed);
   h.precision(2);
-  h << "wrote " << a.output << ": " << r.counts << " in " << s["seconds"].get<double>() << " s" << run.notes();
+  h << "wrote " << a.output << ": " << r.counts << " in " << s["seconds"].get<double>() << " s" << budget_words << run.notes();
   if (!a.preview.empty()) h << "; preview " << a.preview;
   for (const auto& p : pngs_)
     if (!p->path.empty() && !p->sentence_word.empty()) h << "; " << p->sentence_word << " " << p->path;
