@@ -21,11 +21,15 @@ double knob_for(double seconds, double scale, const std::function<double(double)
 }
 
 SearchOutcome choose_density(const SearchOptions& opt, const std::function<double(double)>& predict,
-                             const std::function<double(double)>& run) {
+                             const std::function<double(double)>& run, const std::function<void(double)>& calibrate) {
   require_positive("--time", opt.budget_s);
   const double budget = opt.budget_s, aim = opt.target * budget;
   SearchOutcome out;
   double k = knob_for(aim, 1.0, predict);
+  if (calibrate) {
+    calibrate(k);
+    k = knob_for(aim, 1.0, predict);
+  }
   out.predicted = predict(k);
   double t = run(k);
   std::vector<std::pair<double, double>> tried{{k, t}};

@@ -27,10 +27,13 @@ struct SearchOutcome {
 };
 
 // `predict(k)` must be cheap; `run(k)` runs the method at k and returns its quick plot
-// estimate (the caller keeps the result of the last run). Both must be non-decreasing
-// in k. Time: ~60 predictions, 1-3 runs.
+// estimate (the caller keeps every run's result). Both must be non-decreasing in k.
+// `calibrate(k)`, if given, is called once at the first predicted knob before any run:
+// a method may run a cheap pilot there to correct its prediction (the knob is then
+// predicted again). Time: ~100 predictions, the pilot, 1-3 runs.
 SearchOutcome choose_density(const SearchOptions& opt, const std::function<double(double)>& predict,
-                             const std::function<double(double)>& run);
+                             const std::function<double(double)>& run,
+                             const std::function<void(double)>& calibrate = {});
 
 // The smallest k in [0, 1] with scale * predict(k) >= seconds (1 if none). Bisection,
 // 40 predictions.

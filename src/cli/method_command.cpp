@@ -210,7 +210,7 @@ void MethodCommand::run() const {
   };
   budget::SearchOptions so_opt;
   so_opt.budget_s = budget_s;
-  const budget::SearchOutcome so = budget::choose_density(so_opt, draft.predict, run_at);
+  const budget::SearchOutcome so = budget::choose_density(so_opt, draft.predict, run_at, draft.calibrate);
   MethodResult r = std::move(runs.at(so.knob));
   runs.clear();
   const double method_s = seconds_since(t1);

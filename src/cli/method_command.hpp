@@ -65,6 +65,7 @@ struct MethodResult {
 struct MethodDraft {
   std::function<double(double k)> predict;     // plot seconds at k, cheap (statistics x mark costs)
   std::function<MethodResult(double k)> draw;  // the method at k
+  std::function<void(double k)> calibrate;     // optional: a cheap pilot at k that corrects predict
   // The share of the photo's tone the drawing at k reaches (1 = all of it: the budget
   // fades the drawing evenly below that). Null: always all of it.
   std::function<double(double k)> tone_share;
