@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "geometry/drawing.hpp"
 #include "image/image.hpp"
 #include "util/rng.hpp"
 
@@ -50,5 +51,13 @@ inline std::vector<uint8_t> photo_like_grey(int w, int h, uint64_t seed = 7) {
 }
 
 inline Image photo_like(int w, int h, uint64_t seed = 7) { return Image::from_grey(w, h, photo_like_grey(w, h, seed)); }
+
+// n points uniform in a side x side mm square: the planner's benchmark instances.
+inline std::vector<Vec2> uniform_dots(size_t n, double side, uint64_t seed) {
+  Rng rng(seed);
+  std::vector<Vec2> p(n);
+  for (auto& v : p) v = {rng.uniform() * side, rng.uniform() * side};
+  return p;
+}
 
 }  // namespace stipplot::bench

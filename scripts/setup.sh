@@ -6,6 +6,8 @@ PKGS=(
   libserialport-dev libusb-1.0-0-dev libtinyxml2-dev catch2
   libopencv-core-dev libopencv-imgproc-dev libstb-dev libcairo2-dev
   libcli11-dev libtomlplusplus-dev libnanoflann-dev libbenchmark-dev nlohmann-json3-dev
+  libhersheyfont-dev hershey-fonts-data
+  inkscape  # not built against: its example drawings (/usr/share/inkscape/examples) are test inputs
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -13,6 +13,8 @@
 #include <optional>
 #include <sstream>
 
+#include "geometry/affine.hpp"
+#include "svg/text_layout.hpp"
 #include "util/error.hpp"
 #include "util/units.hpp"
 
@@ -23,30 +25,10 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kMmPerPx = 25.4 / 96.0;
 
-// x' = a x + c y + e ; y' = b x + d y + f  (SVG's matrix(a b c d e f))
-struct Affine {
-  double a = 1, b = 0, c = 0, d = 1, e = 0, f = 0;
-  Vec2 apply(Vec2 p) const { return {a * p.x + c * p.y + e, b * p.x + d * p.y + f}; }
-  Affine operator*(const Affine& o) const {  // this after o
-    return {a * o.a + c * o.b, b * o.a + d * o.b, a * o.c + c * o.d,
-            b * o.c + d * o.d, a * o.e + c * o.f + e, b * o.e + d * o.f + f};
-  }
-  double det() const { return a * d - b * c; }
-  // Largest stretch of a unit vector (largest singular value).
-  double max_scale() const {
-    double p = (a * a + b * b + c * c + d * d) / 2, q = std::sqrt(std::max(0.0, p * p - det() * det()));
-    return std::sqrt(p + q);
-  }
-  // Rotation, uniform scale and possibly a reflection: circles stay circles.
-  bool is_similarity() const {
-    double tol = 1e-9 * (std::fabs(a) + std::fabs(b) + std::fabs(c) + std::fabs(d));
-    return (std::fabs(a - d) <= tol && std::fabs(b + c) <= tol) || (std::fabs(a + d) <= tol && std::fabs(b - c) <= tol);
-  }
-};
-
 struct Paint {
   bool none = false;
   Color color = colors::black;
+  bool pattern = false;  // a gradient or pattern (url(...)): drawn in black, never hatched solid
 };
 
 struct Style {
@@ -55,11 +37,16 @@ struct Style {
   double stroke_width = 1;            // user units of the element that set it
   double stroke_width_mm = -1;        // resolved with the transform in effect where set; -1 unset
   bool visible = true;
+  FillRule fill_rule = FillRule::nonzero;
+  svgtext::TextStyle text;            // font size (user units), family, weight, slant, anchor
+  bool preserve_space = false;        // xml:space="preserve"
 };
 
 class Reader {
  public:
   Reader(const std::string& name, const SvgReadOptions& opt) : name_(name), opt_(opt) {}
+
+  size_t missing_glyphs() const { return missing_glyphs_; }
 
   Drawing run(const tinyxml2::XMLDocument& doc) {
     const tinyxml2::XMLElement* root = doc.RootElement();
@@ -167,8 +154,9 @@ class Reader {
         return;
       }
       p.none = false;
+      p.pattern = v->rfind("url(", 0) == 0;
       Color c;
-      if (*v == "currentColor" || v->rfind("url(", 0) == 0) c = colors::black;  // gradients: plot in black
+      if (*v == "currentColor" || p.pattern) c = colors::black;  // gradients: plot in black
       else if (!Color::try_parse(*v, c)) fail(e, std::string(prop) + ": not a colour: '" + *v + "'");
       p.color = c;
     };
@@ -188,6 +176,56 @@ class Reader {
     if (auto v = property(e, "visibility")) {
       if (*v == "hidden" || *v == "collapse") s.visible = false;
       else if (*v == "visible") s.visible = true;
+    }
+    // Fully transparent paint is no paint (hit areas, guides).
+    if (auto v = property(e, "fill-opacity"); v && opacity_zero(*v)) s.fill.none = true;
+    if (auto v = property(e, "stroke-opacity"); v && opacity_zero(*v)) s.stroke.none = true;
+    if (auto v = property(e, "opacity"); v && opacity_zero(*v)) s.visible = false;
+    if (auto v = property(e, "fill-rule")) {
+      if (*v == "evenodd") s.fill_rule = FillRule::evenodd;
+      else if (*v == "nonzero") s.fill_rule = FillRule::nonzero;
+    }
+    if (const char* sp = e->Attribute("xml:space")) s.preserve_space = std::strcmp(sp, "preserve") == 0;
+    apply_text_style(e, s.text);
+  }
+
+  static bool opacity_zero(const std::string& v) {
+    double x;
+    std::string unit;
+    return split_number_unit(v, x, unit) && (unit.empty() ? x : unit == "%" ? x / 100 : 1) <= 0;
+  }
+
+  // font-size (a length, em or % of the inherited size, or a CSS keyword), font-family,
+  // font-weight, font-style, text-anchor.
+  void apply_text_style(const tinyxml2::XMLElement* e, svgtext::TextStyle& t) const {
+    if (auto v = property(e, "font-size"); v && *v != "inherit" && !v->empty()) {
+      static const std::pair<const char*, double> keywords[] = {{"xx-small", 9},  {"x-small", 10}, {"small", 13},
+                                                                {"medium", 16},   {"large", 18},   {"x-large", 24},
+                                                                {"xx-large", 32}, {"smaller", -0.8}, {"larger", -1.2}};
+      double x = 0;
+      std::string unit;
+      bool done = false;
+      for (const auto& [name, size] : keywords)
+        if (*v == name) t.size = size > 0 ? size : -size * t.size, done = true;
+      if (!done && v->back() == '%' && split_number_unit(v->substr(0, v->size() - 1), x, unit) && unit.empty()) {
+        t.size *= x / 100;
+      } else if (!done && split_number_unit(*v, x, unit) && unit == "em") {
+        t.size *= x;
+      } else if (!done) {
+        double px;
+        if (!parse_length(v->c_str(), 1.0 / kMmPerPx, px) || !(px >= 0)) fail(e, "font-size: bad value '" + *v + "'");
+        t.size = px;
+      }
+    }
+    if (auto v = property(e, "font-family"); v && *v != "inherit") t.family = *v;
+    if (auto v = property(e, "font-weight"); v && *v != "inherit") {
+      double w = 0;
+      std::string unit;
+      t.bold = *v == "bold" || *v == "bolder" || (split_number_unit(*v, w, unit) && unit.empty() && w >= 600);
+    }
+    if (auto v = property(e, "font-style"); v && *v != "inherit") t.italic = *v == "italic" || *v == "oblique";
+    if (auto v = property(e, "text-anchor"); v && *v != "inherit") {
+      t.anchor = *v == "middle" ? svgtext::Anchor::middle : *v == "end" ? svgtext::Anchor::end : svgtext::Anchor::start;
     }
   }
 
@@ -385,7 +423,7 @@ class Reader {
     const char* tag = local(e->Name());
     static const char* kSkip[] = {"defs", "title", "desc", "metadata", "symbol", "clipPath", "mask", "pattern",
                                   "marker", "style", "script", "namedview", "linearGradient", "radialGradient",
-                                  "filter", "text", "image", "foreignObject", "switch"};
+                                  "filter", "image", "foreignObject", "switch", "flowRegion"};
     for (const char* s : kSkip)
       if (std::strcmp(tag, s) == 0) return;
     if (display_none(e)) return;
@@ -412,9 +450,29 @@ class Reader {
       use(e, ctm, style, layer);
       return;
     }
-    if (!style.visible) return;
+    if (std::strcmp(tag, "text") == 0) {
+      text(e, ctm, style, layer);
+      return;
+    }
+    if (std::strcmp(tag, "flowRoot") == 0) {
+      flow_root(e, ctm, style, layer);
+      return;
+    }
+    if (!style.visible || (style.stroke.none && style.fill.none)) return;  // nothing shows
 
     shape_ = {};
+    if (std::strcmp(tag, "circle") == 0 || std::strcmp(tag, "ellipse") == 0) {
+      if (circle_or_ellipse(e, tag[0] == 'c', ctm, style, layer)) return;
+    } else if (!build_shape(e, tag, ctm)) {
+      return;  // unknown elements draw nothing
+    }
+    flush_current();
+    if (!shape_.empty()) add_shape(style, layer, std::strcmp(tag, "line") != 0);
+  }
+
+  // The outline of a path, line, polyline, polygon or rect into shape_ (page mm); false for
+  // any other element.
+  bool build_shape(const tinyxml2::XMLElement* e, const char* tag, const Affine& ctm) {
     if (std::strcmp(tag, "path") == 0) {
       const char* d = e->Attribute("d");
       if (d) path(e, d, ctm);
@@ -425,13 +483,14 @@ class Reader {
       polyline(e, ctm, tag[4] == 'g');
     } else if (std::strcmp(tag, "rect") == 0) {
       rect(e, ctm);
-    } else if (std::strcmp(tag, "circle") == 0 || std::strcmp(tag, "ellipse") == 0) {
-      if (circle_or_ellipse(e, tag[0] == 'c', ctm, style, layer)) return;
+    } else if (std::strcmp(tag, "ellipse") == 0 || std::strcmp(tag, "circle") == 0) {
+      const double cx = length_attr(e, "cx", 0), cy = length_attr(e, "cy", 0);
+      const double rx = length_attr(e, tag[0] == 'c' ? "r" : "rx", 0), ry = length_attr(e, tag[0] == 'c' ? "r" : "ry", rx);
+      if (rx > 0 && ry > 0) ellipse({cx, cy}, rx, ry, ctm);
     } else {
-      return;  // unknown elements (use, text...) draw nothing here
+      return false;
     }
-    flush_current();
-    if (!shape_.empty()) add_lines(style, layer);
+    return true;
   }
 
   // <polyline points> / <polygon points> (closed).
@@ -748,6 +807,254 @@ class Reader {
     curve(p0, c1, c2, p, ctm);
   }
 
+  // ---------- text ----------
+  // Per-character positions of an element and its descendants (SVG's x, y, dx, dy lists):
+  // each character takes the next value of the innermost list that has one left, and
+  // every list in scope moves on by one.
+  struct PositionLists {
+    std::vector<std::vector<double>> x, y, dx, dy;
+    std::vector<size_t> nx, ny, ndx, ndy;
+  };
+
+  std::vector<double> number_list(const tinyxml2::XMLElement* e, const char* attr) const {
+    std::vector<double> v;
+    const char* text = e->Attribute(attr);
+    if (!text) return v;
+    NumberScanner sc(text);
+    double x;
+    while (sc.number(x)) v.push_back(x);
+    if (!sc.at_end()) fail(e, std::string(attr) + ": bad number at '" + sc.rest() + "'");
+    return v;
+  }
+
+  struct TextRun {
+    std::vector<svgtext::TextChar> chars;
+    std::vector<Style> paints;  // TextChar::paint indexes these
+    bool last_space = true;     // collapsing: drop spaces after a space (or at the start)
+  };
+
+  static std::optional<double> take(std::vector<std::vector<double>>& lists, std::vector<size_t>& next) {
+    std::optional<double> v;
+    for (size_t k = lists.size(); k-- > 0;)
+      if (!v && next[k] < lists[k].size()) v = lists[k][next[k]];
+    for (size_t& n : next) ++n;
+    return v;
+  }
+
+  void add_text_chars(const std::string& utf8, const Style& style, PositionLists& pos, TextRun& run) {
+    std::optional<size_t> paint;
+    for (char32_t c : svgtext::decode_utf8(utf8)) {
+      if (c == '\n' || c == '\r') {
+        if (!style.preserve_space) continue;  // newlines vanish, or become spaces when preserved
+        c = ' ';
+      }
+      if (c == '\t') c = ' ';
+      if (c == ' ' && !style.preserve_space && run.last_space) continue;
+      run.last_space = c == ' ';
+      if (!paint) {
+        run.paints.push_back(style);
+        paint = run.paints.size() - 1;
+      }
+      svgtext::TextChar tc;
+      tc.code = c;
+      tc.style = style.text;
+      tc.paint = *paint;
+      tc.x = take(pos.x, pos.nx);
+      tc.y = take(pos.y, pos.ny);
+      tc.dx = take(pos.dx, pos.ndx).value_or(0);
+      tc.dy = take(pos.dy, pos.ndy).value_or(0);
+      run.chars.push_back(tc);
+    }
+  }
+
+  // The characters of e's content: text, and tspan, tref, a, flowSpan, flowPara, flowDiv
+  // children with their own styles and positions. A textPath child is laid out on its
+  // path at once (what came before it first).
+  void collect_text(const tinyxml2::XMLElement* e, const Affine& ctm, const Style& style, PositionLists& pos,
+                    TextRun& run, const std::string* layer) {
+    for (const tinyxml2::XMLNode* n = e->FirstChild(); n; n = n->NextSibling()) {
+      if (const tinyxml2::XMLText* t = n->ToText()) {
+        add_text_chars(t->Value() ? t->Value() : "", style, pos, run);
+        continue;
+      }
+      const tinyxml2::XMLElement* c = n->ToElement();
+      if (!c || display_none(c)) continue;
+      const char* tag = local(c->Name());
+      Style st = style;
+      apply_style(c, st, ctm);
+      if (std::strcmp(tag, "textPath") == 0) {
+        place_text(run, ctm, layer);
+        text_path(c, ctm, st, layer);
+        continue;
+      }
+      const bool span = std::strcmp(tag, "tspan") == 0 || std::strcmp(tag, "a") == 0 ||
+                        std::strcmp(tag, "flowSpan") == 0 || std::strcmp(tag, "altGlyph") == 0;
+      const bool para = std::strcmp(tag, "flowPara") == 0 || std::strcmp(tag, "flowDiv") == 0;
+      if (std::strcmp(tag, "tref") == 0) {
+        const tinyxml2::XMLElement* target = referenced(c);
+        if (target) add_text_chars(all_text(target), st, pos, run);  // its characters, placed here
+        continue;
+      }
+      if (!span && !para) continue;
+      if (para) {
+        run.last_space = true;
+        const size_t before = run.chars.size();
+        collect_text(c, ctm, st, pos, run, layer);
+        if (run.chars.size() > before) run.chars[before].paragraph = true;
+        continue;
+      }
+      push_positions(c, pos);
+      collect_text(c, ctm, st, pos, run, layer);
+      pop_positions(pos);
+    }
+  }
+
+  void push_positions(const tinyxml2::XMLElement* e, PositionLists& p) const {
+    p.x.push_back(number_list(e, "x"));
+    p.y.push_back(number_list(e, "y"));
+    p.dx.push_back(number_list(e, "dx"));
+    p.dy.push_back(number_list(e, "dy"));
+    p.nx.push_back(0);
+    p.ny.push_back(0);
+    p.ndx.push_back(0);
+    p.ndy.push_back(0);
+  }
+  static void pop_positions(PositionLists& p) {
+    for (auto* v : {&p.x, &p.y, &p.dx, &p.dy}) v->pop_back();
+    for (auto* v : {&p.nx, &p.ny, &p.ndx, &p.ndy}) v->pop_back();
+  }
+
+  static std::string all_text(const tinyxml2::XMLElement* e) {
+    std::string out;
+    for (const tinyxml2::XMLNode* n = e->FirstChild(); n; n = n->NextSibling()) {
+      if (const tinyxml2::XMLText* t = n->ToText()) out += t->Value() ? t->Value() : "";
+      else if (const tinyxml2::XMLElement* c = n->ToElement()) out += all_text(c);
+    }
+    return out;
+  }
+
+  const tinyxml2::XMLElement* referenced(const tinyxml2::XMLElement* e) {
+    const char* href = e->Attribute("href");
+    if (!href) href = e->Attribute("xlink:href");
+    if (!href || href[0] != '#') return nullptr;
+    if (ids_.empty()) index_ids(e->GetDocument()->RootElement());
+    auto it = ids_.find(href + 1);
+    if (it == ids_.end()) fail(e, std::string("href=\"") + href + "\" names no element");
+    return it->second;
+  }
+
+  void text(const tinyxml2::XMLElement* e, const Affine& ctm, const Style& style, const std::string* layer) {
+    svgtext::require_fonts();
+    PositionLists pos;
+    push_positions(e, pos);
+    TextRun run;
+    collect_text(e, ctm, style, pos, run, layer);
+    place_text(run, ctm, layer);
+  }
+
+  // Lays out and draws what the run holds, then empties it.
+  void place_text(TextRun& run, const Affine& ctm, const std::string* layer) {
+    while (!run.chars.empty() && run.chars.back().code == ' ') run.chars.pop_back();
+    if (!run.chars.empty()) add_glyphs(svgtext::lay_out_text(run.chars), run, ctm, layer);
+    run.chars.clear();
+  }
+
+  void add_glyphs(const svgtext::TextResult& r, const TextRun& run, const Affine& ctm, const std::string* layer) {
+    missing_glyphs_ += r.missing;
+    for (const auto& g : r.glyphs) {
+      const Style& st = run.paints[g.paint];
+      if (!st.visible || (st.fill.none && st.stroke.none)) continue;
+      Style pen = st;  // text is drawn in its fill colour, or its stroke's when unfilled
+      if (!pen.fill.none) pen.stroke = pen.fill;
+      Color c;
+      Layer& l = layer_for(pen, layer, c);
+      for (const auto& stroke : g.strokes) {
+        Polyline pl;
+        pl.pts.reserve(stroke.size());
+        for (const Vec2& p : stroke) pl.pts.push_back(ctm.apply(p));
+        l.lines.push_back(std::move(pl));
+      }
+    }
+  }
+
+  // <textPath href startOffset>: the characters along the referenced path (its own
+  // transform applies in the text's user space).
+  void text_path(const tinyxml2::XMLElement* e, const Affine& ctm, const Style& style, const std::string* layer) {
+    const tinyxml2::XMLElement* target = referenced(e);
+    if (!target) return;
+    Affine path_ctm = ctm;
+    if (const char* t = target->Attribute("transform")) path_ctm = ctm * parse_transform(target, t);
+    std::vector<Vec2> path = user_space_outline(target, path_ctm, ctm);
+    if (path.size() < 2) return;
+    PositionLists pos;
+    push_positions(e, pos);
+    TextRun run;
+    collect_text(e, ctm, style, pos, run, layer);
+    double offset = 0;
+    if (const char* so = e->Attribute("startOffset")) {
+      std::string v = trim(so);
+      double x;
+      std::string unit;
+      double length = 0;
+      for (size_t k = 1; k < path.size(); ++k) length += std::hypot(path[k].x - path[k - 1].x, path[k].y - path[k - 1].y);
+      if (!v.empty() && v.back() == '%' && split_number_unit(v.substr(0, v.size() - 1), x, unit) && unit.empty())
+        offset = length * x / 100;
+      else if (!parse_length(v.c_str(), 1.0 / kMmPerPx, offset))
+        fail(e, "startOffset: bad value '" + v + "'");
+    }
+    while (!run.chars.empty() && run.chars.back().code == ' ') run.chars.pop_back();
+    add_glyphs(svgtext::lay_out_on_path(run.chars, path, offset), run, ctm, layer);
+  }
+
+  // A shape's first subpath flattened in page mm through `shape_ctm`, brought back to the
+  // user space of `user_ctm` (where text is laid out).
+  std::vector<Vec2> user_space_outline(const tinyxml2::XMLElement* shape, const Affine& shape_ctm, const Affine& user_ctm) {
+    std::vector<Polyline> saved_shape = std::move(shape_);
+    std::vector<Vec2> saved_cur = std::move(cur_);
+    shape_.clear();
+    cur_.clear();
+    build_shape(shape, local(shape->Name()), shape_ctm);
+    flush_current();
+    std::vector<Vec2> out;
+    const double det = user_ctm.det();
+    if (!shape_.empty() && std::fabs(det) > 1e-300) {
+      const Affine& m = user_ctm;  // invert x' = a x + c y + e, y' = b x + d y + f
+      for (const Vec2& p : shape_.front().pts) {
+        const double px = p.x - m.e, py = p.y - m.f;
+        out.push_back({(m.d * px - m.c * py) / det, (-m.b * px + m.a * py) / det});
+      }
+    }
+    shape_ = std::move(saved_shape);
+    cur_ = std::move(saved_cur);
+    return out;
+  }
+
+  // Inkscape's flowed text (flowRoot): the paragraphs wrapped into the bounding box of the
+  // first flowRegion's shape (exclusions are not subtracted).
+  void flow_root(const tinyxml2::XMLElement* e, const Affine& ctm, const Style& style, const std::string* layer) {
+    svgtext::require_fonts();
+    Rect box;
+    bool have_box = false;
+    for (const tinyxml2::XMLElement* c = e->FirstChildElement(); c && !have_box; c = c->NextSiblingElement()) {
+      if (std::strcmp(local(c->Name()), "flowRegion") != 0) continue;
+      for (const tinyxml2::XMLElement* sh = c->FirstChildElement(); sh && !have_box; sh = sh->NextSiblingElement()) {
+        Affine sh_ctm = ctm;
+        if (const char* t = sh->Attribute("transform")) sh_ctm = ctm * parse_transform(sh, t);
+        const std::vector<Vec2> pts = user_space_outline(sh, sh_ctm, ctm);
+        if (pts.size() < 3) continue;
+        box = {pts[0].x, pts[0].y, pts[0].x, pts[0].y};
+        for (const Vec2& p : pts) box = {std::min(box.x0, p.x), std::min(box.y0, p.y), std::max(box.x1, p.x), std::max(box.y1, p.y)};
+        have_box = !box.empty();
+      }
+    }
+    if (!have_box) return;
+    PositionLists none;
+    push_positions(e, none);
+    TextRun run;
+    collect_text(e, ctm, style, none, run, layer);
+    if (!run.chars.empty()) add_glyphs(svgtext::lay_out_in_box(run.chars, box), run, ctm, layer);
+  }
+
   // ---------- layers ----------
   Layer& layer_for(const Style& style, const std::string* label, Color& colour_out) {
     const Paint& paint = !style.stroke.none ? style.stroke : style.fill;
@@ -762,7 +1069,10 @@ class Reader {
         std::string name = *label;
         size_t i = 0;
         while (i < name.size() && std::isdigit(static_cast<unsigned char>(name[i]))) ++i;
-        if (i > 0 && i < name.size() && name[i] == ' ') name = trim(name.substr(i + 1));
+        if (i > 0 && i < name.size() && name[i] == ' ') {
+          if (i <= 4) l.pen.number = std::stoi(name.substr(0, i));  // the pen, as AxiDraw reads it
+          name = trim(name.substr(i + 1));
+        }
         l.pen.name = name.empty() ? *label : name;
       } else {
         l.pen.name = colour_out.hex();
@@ -779,18 +1089,47 @@ class Reader {
     return layer;
   }
 
-  void add_lines(const Style& style, const std::string* label) {
+  // A shape's outline as lines (the stroke, or the edge of an unstroked fill), and, when
+  // it is filled, its subpaths as the rings of an area (each closed, as SVG fills them) on
+  // the layer of the fill colour, which the planner hatches.
+  void add_shape(const Style& style, const std::string* label, bool fillable) {
+    if (fillable && !style.fill.none && !style.fill.pattern) {
+      Area area;
+      area.rule = style.fill_rule;
+      area.fill = style.fill.color;
+      for (const auto& pl : shape_) {
+        if (pl.pts.size() < 3) continue;
+        Polyline ring = pl;
+        if (!(ring.pts.front() == ring.pts.back())) ring.pts.push_back(ring.pts.front());
+        area.rings.push_back(std::move(ring));
+      }
+      if (!area.rings.empty()) {
+        Style fill_only = style;
+        fill_only.stroke.none = true;
+        Color c;
+        layer_for(label ? style : fill_only, label, c).areas.push_back(std::move(area));
+      }
+    }
     Color c;
     Layer& layer = layer_for(style, label, c);
     for (auto& pl : shape_) layer.lines.push_back(std::move(pl));
     shape_.clear();
   }
 
-  void round_shape(const tinyxml2::XMLElement*, Vec2 c, double r_mm, const Style& style, const std::string* label) {
+  void round_shape(const tinyxml2::XMLElement* e, Vec2 c, double r_mm, const Style& style, const std::string* label) {
+    const bool filled = !style.fill.none && !style.fill.pattern;
+    const bool stroked = !style.stroke.none;
+    if (filled && stroked && !label && !(style.fill.color == style.stroke.color)) {
+      // Two pens, as it looks: the disc in the fill's, its outline in the stroke's.
+      Style fill_only = style, outline_only = style;
+      fill_only.stroke.none = true;
+      outline_only.fill.none = true;
+      round_shape(e, c, r_mm, fill_only, label);
+      round_shape(e, c, r_mm, outline_only, label);
+      return;
+    }
     Color colour;
     Layer& layer = layer_for(style, label, colour);
-    const bool filled = !style.fill.none;
-    const bool stroked = !style.stroke.none;
     double pen = style.stroke_width_mm > 0 ? style.stroke_width_mm : opt_.default_pen_width_mm;
     if (filled && !stroked && 2 * r_mm <= pen * (1 + 1e-6) + 1e-9) {
       layer.dots.push_back({c, 2 * r_mm});
@@ -815,13 +1154,14 @@ class Reader {
   std::map<std::string, LayerInfo> index_;
   std::map<std::string, const tinyxml2::XMLElement*> ids_;
   int use_depth_ = 0;
+  size_t missing_glyphs_ = 0;
   std::vector<Vec2> cur_;
   std::vector<Polyline> shape_;
 };
 
 }  // namespace
 
-Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt) {
+Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt, SvgReadReport* report) {
   require_positive("SVG flattening tolerance", opt.tolerance_mm);
   require_positive("default pen width", opt.default_pen_width_mm);
   tinyxml2::XMLDocument doc;
@@ -829,16 +1169,19 @@ Drawing parse_svg(const std::string& text, const std::string& name, const SvgRea
     std::string msg = doc.ErrorStr() ? doc.ErrorStr() : "XML error";
     throw UserError(name + " line " + std::to_string(doc.ErrorLineNum()) + ": malformed XML: " + msg);
   }
-  return Reader(name, opt).run(doc);
+  Reader reader(name, opt);
+  Drawing d = reader.run(doc);
+  if (report) report->missing_glyphs = reader.missing_glyphs();
+  return d;
 }
 
-Drawing read_svg(const std::string& path, const SvgReadOptions& opt) {
+Drawing read_svg(const std::string& path, const SvgReadOptions& opt, SvgReadReport* report) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UserError("cannot read " + path);
   std::ostringstream ss;
   ss << in.rdbuf();
   if (!in.good() && !in.eof()) throw UserError("cannot read " + path);
-  return parse_svg(ss.str(), path, opt);
+  return parse_svg(ss.str(), path, opt, report);
 }
 
 }  // namespace stipplot

@@ -8,7 +8,8 @@
 //  - Units: the root's width/height (mm, cm, in, pt, pc, px at 96/in) with its viewBox
 //    (preserveAspectRatio none or the default xMidYMid meet) give the page in mm.
 //  - Layers: an Inkscape layer (g with inkscape:groupmode="layer", outermost one wins)
-//    becomes a pen layer named by its label (a leading "N " pen number is dropped);
+//    becomes a pen layer named by its label; a leading "N " (up to 4 digits) is the pen
+//    number, as the AxiDraw tools read it, and is dropped from the name;
 //    shapes outside any layer are grouped into pen layers by stroke colour (fill if no
 //    stroke). display:none, visibility:hidden and layers labelled "%..." are skipped.
 //  - A filled, unstroked circle no wider than the stroke width in effect becomes a Dot
@@ -29,8 +30,14 @@ struct SvgReadOptions {
 
 // O(elements + output points); the flattening adds points in proportion to
 // sqrt(curve size / tolerance) per curve.
-Drawing read_svg(const std::string& path, const SvgReadOptions& opt = {});
+// What reading left out that a user should hear of.
+struct SvgReadReport {
+  size_t missing_glyphs = 0;  // text characters the Hershey fonts have no glyph for
+};
+
+Drawing read_svg(const std::string& path, const SvgReadOptions& opt = {}, SvgReadReport* report = nullptr);
 // `name` is used in error messages.
-Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt = {});
+Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt = {},
+                  SvgReadReport* report = nullptr);
 
 }  // namespace stipplot

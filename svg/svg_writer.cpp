@@ -28,6 +28,28 @@ std::string format_number(double v, int decimals) {
 
 namespace {
 
+// A filled region as one path of closed subpaths with its fill rule, no outline.
+void push_area(tinyxml2::XMLPrinter& p, const Area& a, int decimals) {
+  std::string d;
+  for (const auto& ring : a.rings) {
+    if (ring.pts.size() < 3) continue;
+    for (size_t i = 0; i + 1 < ring.pts.size(); ++i) {
+      d += i ? " L" : (d.empty() ? "M" : " M");
+      d += format_number(ring.pts[i].x, decimals);
+      d += ',';
+      d += format_number(ring.pts[i].y, decimals);
+    }
+    d += " Z";
+  }
+  if (d.empty()) return;
+  p.OpenElement("path");
+  p.PushAttribute("d", d.c_str());
+  p.PushAttribute("fill", a.fill.hex().c_str());
+  p.PushAttribute("fill-rule", a.rule == FillRule::evenodd ? "evenodd" : "nonzero");
+  p.PushAttribute("stroke", "none");
+  p.CloseElement(true);
+}
+
 void write(const Drawing& d, tinyxml2::XMLPrinter& p, const SvgOptions& opt) {
   auto num = [&](double v) { return format_number(v, opt.decimals); };
   SvgFrame frame;
@@ -42,7 +64,7 @@ void write(const Drawing& d, tinyxml2::XMLPrinter& p, const SvgOptions& opt) {
   for (const auto& layer : d.layers) {
     ++index;
     const std::string colour = layer.pen.color.hex();
-    open_pen_layer(p, index, layer.pen, opt.decimals);
+    open_pen_layer(p, layer.pen.number > 0 ? layer.pen.number : index, layer.pen, opt.decimals);
     for (const auto& dot : layer.dots) push_filled_circle(p, dot.c, dot.diameter / 2, colour, opt.decimals);
     for (const auto& c : layer.circles) {
       if (c.filled) {
@@ -69,6 +91,7 @@ void write(const Drawing& d, tinyxml2::XMLPrinter& p, const SvgOptions& opt) {
       p.PushAttribute("points", pts.c_str());
       p.CloseElement(true);
     }
+    for (const auto& a : layer.areas) push_area(p, a, opt.decimals);
     p.CloseElement();
   }
   p.CloseElement();

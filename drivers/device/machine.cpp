@@ -1,5 +1,6 @@
 #include "drivers/device/machine.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -25,6 +26,18 @@ Vec2 MachineTransform::to_machine_mm(Vec2 p) const {
 Vec2 MachineTransform::page_position_of_machine_zero() const {
   return {m_.origin_offset_x_mm,
           m_.origin == Origin::top_left ? m_.origin_offset_y_mm : page_h_ - m_.origin_offset_y_mm};
+}
+
+Rect MachineTransform::reach_on_page() const {
+  // Machine (mx, my) back to the page: the inverse of to_machine_mm at the travel's corners.
+  auto page_x = [&](double mx) { return mx / m_.x_sign + m_.origin_offset_x_mm; };
+  auto page_y = [&](double my) {
+    const double dy = my / m_.y_sign + m_.origin_offset_y_mm;
+    return m_.origin == Origin::top_left ? dy : page_h_ - dy;
+  };
+  const double xa = page_x(lo_.x * step_), xb = page_x(hi_.x * step_);
+  const double ya = page_y(lo_.y * step_), yb = page_y(hi_.y * step_);
+  return {std::min(xa, xb), std::min(ya, yb), std::max(xa, xb), std::max(ya, yb)};
 }
 
 Steps MachineTransform::to_steps(Vec2 page_mm) const {
@@ -55,10 +68,8 @@ void check_plan_fits(const Plan& plan, const DeviceProfile& profile) {
             << ") is at machine (" << m.x << ", " << m.y << ") mm, outside the travel of profile "
             << profile.name << " (" << t.lo().x * t.step_mm() << ".." << t.hi().x * t.step_mm() << " x "
             << t.lo().y * t.step_mm() << ".." << t.hi().y * t.step_mm()
-            << " mm); use a larger margin, a smaller page, or another profile";
-        const bool page_portrait = plan.page.height_mm > plan.page.width_mm;
-        const bool travel_landscape = profile.machine.travel_x_mm > profile.machine.travel_y_mm;
-        if (page_portrait && travel_landscape) msg << " (the page is portrait, the device's area landscape: try --landscape)";
+            << " mm); --fit lays the drawing inside what the device reaches (or use --scale, a larger --margin "
+               "with --fit or --align, or another profile)";
         throw UserError(msg.str());
       }
     }

@@ -27,6 +27,9 @@ class MachineTransform {
   }
   // Where machine zero (the pen's start) lies on the page, in page mm.
   Vec2 page_position_of_machine_zero() const;
+  // The part of the page the travel covers, in page mm (every point in it passes
+  // check_plan_fits' travel test).
+  Rect reach_on_page() const;
   double step_mm() const { return step_; }
   Steps lo() const { return lo_; }
   Steps hi() const { return hi_; }

@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include "geometry/page.hpp"
 #include "util/error.hpp"
 
 namespace stipplot {
@@ -135,6 +137,35 @@ const toml::table* subtable(const toml::table& root, const char* name, const std
   return t;
 }
 
+// `sheet = "A4 landscape"`: a page size as --page reads it, then portrait or landscape
+// (named sizes are portrait without it, WxH sizes as written).
+void read_sheet(Section& s, MachineGeometry& m) {
+  if (!s.has("sheet")) {
+    m.sheet_width_mm = m.travel_x_mm + std::fabs(m.origin_offset_x_mm);
+    m.sheet_height_mm = m.travel_y_mm + std::fabs(m.origin_offset_y_mm);
+    return;
+  }
+  std::string text = s.string("sheet");
+  bool landscape = false, portrait = false;
+  for (const char* word : {" landscape", " portrait"}) {
+    const size_t n = std::strlen(word);
+    if (text.size() > n && text.compare(text.size() - n, n, word) == 0) {
+      (word[1] == 'l' ? landscape : portrait) = true;
+      text.resize(text.size() - n);
+    }
+  }
+  PageSpec page;
+  try {
+    page = parse_page(text);
+  } catch (const UserError& e) {
+    s.fail("sheet", "must be a page size such as \"A4 landscape\" or \"300x200mm\" (" + std::string(e.what()) + ")");
+  }
+  if ((landscape && page.width_mm < page.height_mm) || (portrait && page.width_mm > page.height_mm))
+    std::swap(page.width_mm, page.height_mm);
+  m.sheet_width_mm = page.width_mm;
+  m.sheet_height_mm = page.height_mm;
+}
+
 MachineGeometry read_machine(Section s, bool hpgl) {
   MachineGeometry m;
   m.travel_x_mm = s.number("travel_x_mm", 1, 100000);
@@ -156,6 +187,7 @@ MachineGeometry read_machine(Section s, bool hpgl) {
     m.units_per_mm = 1;
     m.resolution_mm = s.number("resolution_mm", 1e-4, 1);
   }
+  read_sheet(s, m);
   s.finish();
   return m;
 }
@@ -277,18 +309,6 @@ fs::path executable_dir() {
 }
 
 }  // namespace
-
-int DeviceProfile::pen_for_layer(size_t layer) const {
-  if (!pen.map.empty()) {
-    if (layer < pen.map.size()) return pen.map[layer];
-  } else if (layer < static_cast<size_t>(pen.count)) {
-    return static_cast<int>(layer) + 1;
-  }
-  if (protocol == Protocol::grbl) return 1;  // one pen holder: the operator changes pens at M0
-  throw UserError("the plan has more layers (" + std::to_string(layer + 1) + "+) than profile " + name +
-                  " has pens (" + std::to_string(pen.map.empty() ? pen.count : static_cast<int>(pen.map.size())) +
-                  "); merge layers or use a profile with more pens");
-}
 
 DeviceProfile parse_profile(const std::string& text, const std::string& origin) {
   toml::table root;

@@ -35,6 +35,10 @@ struct MachineGeometry {
   double origin_offset_x_mm = 0, origin_offset_y_mm = 0;
   double resolution_mm = 0.01;  // coordinates are rounded to this
   double units_per_mm = 1;      // HPGL: 40 plotter units per mm
+  // The paper the machine takes, as it lies on it (width along the page's x): the key
+  // `sheet` ("A4 landscape", "A3 portrait", "300x200mm"), optional; without it, the travel
+  // plus the origin offset. Drawings are laid out on it unless --page says otherwise.
+  double sheet_width_mm = 0, sheet_height_mm = 0;
   // Machine +Y points up the page (grbl's positive space from a bottom-left zero, HPGL).
   bool y_up() const { return (origin == Origin::bottom_left) == (y_sign > 0); }
 };
@@ -43,7 +47,7 @@ struct MachineGeometry {
 struct PenSetup {
   PenMethod method = PenMethod::servo;
   int count = 1;          // pens the machine holds (carousel), 1 = change by hand
-  std::vector<int> map;   // layer i -> pen number map[i]; empty = 1, 2, 3, ...
+  std::vector<int> map;   // pen i+1's home slot map[i]; empty = pen n in slot n (carousel.hpp)
   double servo_down_s = 0;    // servo: M3 S<down> lowers the pen
   double servo_up_s = 0;      //        M3 S<up> lifts it; 0 means M5
   double z_up_mm = 0, z_down_mm = 0, z_feed_mm_s = 0;  // z_axis
@@ -76,9 +80,6 @@ struct DeviceProfile {
   PenSetup pen;
   HpglSettings hpgl;
   SerialSetup serial;
-
-  // Pen number for layer i (0-based) or throws UserError when the machine has no pen for it.
-  int pen_for_layer(size_t layer) const;
 };
 
 // Parses and validates a profile file; throws UserError naming the file and key.

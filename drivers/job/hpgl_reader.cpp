@@ -28,6 +28,25 @@ std::vector<double> hpgl_numbers(std::string_view params) {
 }
 
 namespace {
+constexpr std::string_view kPausePrefix = "CO\"stipplot pause: ";
+}  // namespace
+
+std::string hpgl_pause_instruction(const std::string& message) {
+  std::string m = message;
+  for (char& c : m)
+    if (c == '"' || c == ';' || c == '\n' || c == '\r') c = ' ';
+  return std::string(kPausePrefix) + m + "\";";
+}
+
+std::optional<std::string> hpgl_pause_message(std::string_view instruction) {
+  if (instruction.substr(0, kPausePrefix.size()) != kPausePrefix) return std::nullopt;
+  std::string_view rest = instruction.substr(kPausePrefix.size());
+  const size_t close = rest.find('"');
+  if (close == std::string_view::npos) return std::nullopt;
+  return std::string(rest.substr(0, close));
+}
+
+namespace {
 
 bool is_alpha(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; }
 
@@ -79,6 +98,17 @@ class HpglReader {
     if (mn == "LB") {  // a label runs to ETX, whatever it holds
       while (i_ < n && text_[i_] != 0x03) ++i_;
       if (i_ < n) ++i_;
+      return passed_through(start);
+    }
+    if (mn == "CO") {  // a comment: a quoted string, whatever it holds
+      while (i_ < n && text_[i_] == ' ') ++i_;
+      if (i_ < n && text_[i_] == '"') {
+        ++i_;
+        while (i_ < n && text_[i_] != '"') ++i_;
+        if (i_ >= n) throw UserError("HPGL: CO comment at byte " + std::to_string(start) + " has no closing quote");
+        ++i_;
+      }
+      if (i_ < n && text_[i_] == ';') ++i_;
       return passed_through(start);
     }
     const size_t params = i_;

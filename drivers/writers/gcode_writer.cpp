@@ -68,8 +68,8 @@ class GcodeEmitter {
         // grbl prints "(MSG,...)" as [MSG:...] and waits at M0 until cycle start (~).
         // G-code comments do not nest and grbl's line buffer holds 80 characters, so
         // the message carries no parentheses and is kept short.
-        std::string msg = "Change pen: layer " + std::to_string(li + 1) + " " + layer.pen.name + " " +
-                          layer.pen.color.hex();
+        const int pen = layer.pen.number > 0 ? layer.pen.number : static_cast<int>(li) + 1;
+        std::string msg = "Change pen: pen " + std::to_string(pen) + " " + layer.pen.name + " " + layer.pen.color.hex();
         for (char& ch : msg)
           if (ch == '(' || ch == ')') ch = ' ';
         if (msg.size() > 60) msg.resize(60);

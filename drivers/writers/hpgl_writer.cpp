@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 
+#include "drivers/device/carousel.hpp"
 #include "drivers/device/machine.hpp"
+#include "drivers/job/hpgl_reader.hpp"
 #include "util/error.hpp"
 
 namespace stipplot {
@@ -20,7 +22,6 @@ void append_xy(std::string& out, Steps s) {
 void check_protocol(const Plan& plan, const DeviceProfile& profile) {
   if (profile.protocol != Protocol::hpgl)
     throw UserError("profile " + profile.name + " speaks " + to_string(profile.protocol) + ", not HPGL; write .gcode");
-  for (size_t i = 0; i < plan.layers.size(); ++i) (void)profile.pen_for_layer(i);  // throws if no pen
   check_plan_fits(plan, profile);
 }
 
@@ -41,8 +42,14 @@ void write_hpgl(const Plan& plan, const DeviceProfile& profile, const LineSink& 
     sink(vs);
   }
   std::string cmd;
+  const std::vector<PenSlot> slots = plan_pen_slots(plan, profile.pen);
   for (size_t li = 0; li < plan.layers.size(); ++li) {
-    sink("SP" + std::to_string(profile.pen_for_layer(li)) + ";");
+    if (!slots[li].reload.empty()) {
+      // Stow the pen, then the pause the streamer stops at (hpgl_reader.hpp).
+      sink("SP0;");
+      sink(io::hpgl_pause_instruction(reload_message(slots[li].reload)));
+    }
+    sink("SP" + std::to_string(slots[li].slot) + ";");
     for (const auto& s : plan.layers[li].strokes) {
       if (s.pts.empty()) continue;
       Steps pos = t.to_steps(s.pts[0]);

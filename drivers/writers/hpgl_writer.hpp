@@ -1,7 +1,11 @@
 #pragma once
 // HPGL from a Plan and a device profile: IN; VS (where the profile allows it); one SP n
-// per layer (pen from the profile's pen map); PU x,y to each stroke's start and PD with
-// the rest of its points in chunks of at most max_points_per_command pairs; SP0 at the end.
+// per layer, n the carousel slot its pen is in (drivers/device/carousel.hpp); PU x,y to
+// each stroke's start and PD with the rest of its points in chunks of at most
+// max_points_per_command pairs; SP0 at the end. A plan with more pens than the carousel
+// holds gets a reload pause before the layer that needs one: SP0; (stow the pen) and
+// CO"stipplot pause: load pen 7 red #ff0000 in slot 1, ..."; — HP-GL/2's comment
+// instruction, which the streamer recognises (hpgl_pause_message) and does not send.
 // Coordinates are integer plotter units (units_per_mm) with the profile's origin and axis
 // signs (y flipped for the usual lower-left origin). One command (ending in ';') a line;
 // the profile's `newline` says whether a file or a device gets '\n' after each.

@@ -41,6 +41,8 @@ extern "C" void on_plot_sigint(int) { g_interrupts.fetch_add(1); }
 
 struct PlotArgs {
   std::string input, profile, port, resume, job_out;
+  PlanArgs plan;      // an SVG's planning
+  LayoutArgs layout;  // an SVG's layout on the profile's sheet
   bool page_given = false, flow_given = false, handshake_given = false, rx_buffer_given = false;
   bool sim = false, check = false, json = false, quiet = false, skip_errors = false, unlock = false, newline = false;
   std::string stream = "counting", handshake = "escb", flow = "none";
@@ -105,12 +107,13 @@ PlotJob load_job(PlotArgs& A) {
   PlotJob pj;
   pj.resuming = !A.resume.empty();
   if (pj.resuming) {
-    pj.prepared = {A.resume, dialect_of(A.resume), A.profile};
+    pj.prepared = {A.resume, dialect_of(A.resume), A.profile, {}};
     pj.resume_state = io::Journal::load(io::Journal::path_for(A.resume));
     if (pj.resume_state.complete) throw UserError("job " + A.resume + " was already plotted to the end (journal says done)");
     if (A.port.empty() && !A.sim) A.port = pj.resume_state.header.port;
   } else {
-    pj.prepared = prepare_job({A.input, A.profile, A.job_out});
+    pj.prepared = prepare_job({A.input, A.profile, A.job_out, A.plan, A.layout});
+    if (!pj.prepared.layout_note.empty()) A.log("laid out on the sheet: " + pj.prepared.layout_note);
   }
   const std::string& path = pj.prepared.path;
   const std::string text = read_file(path);
@@ -355,7 +358,7 @@ void register_plot(CLI::App& app) {
   auto a = std::make_shared<PlotArgs>();
   CLI::App* cmd = app.add_subcommand("plot", "Plot a job on a plotter or the simulated plotter");
   cmd->footer(
-      "IN is a .gcode/.nc (grbl) or .hpgl/.plt job. Without --port or --sim the one plausible device\n"
+      "IN is a .gcode/.nc (grbl) or .hpgl/.plt job, or an SVG (laid out and planned as export does).\nWithout --port or --sim the one plausible device\n"
       "(`stipplot devices`) is used. Ctrl-C pauses (feed hold, pen lifted) and asks whether to resume or\n"
       "abort. The journal IN.journal records every line the device acknowledged; after a disconnect,\n"
       "power loss or abort, `stipplot plot --resume IN` lifts the pen, travels to where it stopped and\n"
@@ -387,6 +390,11 @@ void register_plot(CLI::App& app) {
   cmd->add_option("--sim-latency-ms", a->sim_latency_ms, "Simulated round-trip latency")->capture_default_str()->group(g);
   cmd->add_option("--sim-out", a->sim_out, "Write what the simulator drew to PREFIX.png and PREFIX.svg")->group(g);
   auto* pg = cmd->add_option("--page", a->page, "Page for the simulator's rendering (default: fitted to what was drawn)")->group(g);
+  // An SVG is laid out on the profile's sheet and planned as `export` does.
+  add_layout_options(cmd, a->layout, false);
+  cmd->add_option("--margin", a->layout.margin, "SVG: margin kept by --fit and --align (a length)")
+      ->capture_default_str()->group("Layout");
+  add_plan_options(cmd, a->plan);
   cmd->callback([a, rx, hs, fl, pg] {
     a->rx_buffer_given = rx->count() > 0;
     a->handshake_given = hs->count() > 0;

@@ -107,8 +107,8 @@ void register_sketch(CLI::App& app) {
       ->capture_default_str()->group("Sketch");
   cmd->add_option("--cell", args->cell, "Sampling grid cell: mm on paper (0.6, 0.6mm), input pixels (3px), or auto: sqrt(--mark x pen width), one mark's ink per cell")
       ->capture_default_str()->group("Sketch");
-  cmd->add_option("--mark", args->mark, "Stroke length where the image is flat: mm (1.2, 1.2mm), cm, in or pt")->capture_default_str()->group("Strokes");
-  cmd->add_option("--edge-length", args->edge_length, "Stroke length at strong edges: mm (3.5, 3.5mm), cm, in or pt")->capture_default_str()->group("Strokes");
+  cmd->add_option("--mark", args->mark, "Stroke length where the image is flat: mm (1.2, 1.2mm), cm, in, pt or px (1/96 in)")->capture_default_str()->group("Strokes");
+  cmd->add_option("--edge-length", args->edge_length, "Stroke length at strong edges: mm (3.5, 3.5mm), cm, in, pt or px (1/96 in)")->capture_default_str()->group("Strokes");
   cmd->add_option("--edge-low", args->p.edge_low, "Gradient (luma change per cell, 0..1) above which strokes follow the edge")
       ->capture_default_str()->group("Strokes");
   cmd->add_option("--edge-high", args->p.edge_high, "Gradient at which strokes are longest and thickest")->capture_default_str()->group("Strokes");

@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <sstream>
 
 #include "drivers/writers/gcode_writer.hpp"
 #include "drivers/writers/hpgl_writer.hpp"
@@ -31,9 +32,9 @@ Placement PlacementArgs::resolve() const {
 void add_placement_options(CLI::App* cmd, PlacementArgs& a) {
   cmd->add_option("--page", a.page, "Paper: A5, A4, A3, A2, letter, legal, tabloid or WxH (210x297mm, 30x20cm, 11x8.5in)")
       ->capture_default_str()->group("Page");
-  cmd->add_option("--margin", a.margin, "Margin on every side: mm (10, 10mm), cm, in or pt")->capture_default_str()->group("Page");
+  cmd->add_option("--margin", a.margin, "Margin on every side: mm (10, 10mm), cm, in, pt or px (1/96 in)")->capture_default_str()->group("Page");
   cmd->add_flag("--landscape", a.landscape, "Long side of the page horizontal")->group("Page");
-  cmd->add_option("--pen-width", a.pen_width, "Pen width: mm (0.3, 0.3mm), cm, in or pt")->capture_default_str()->group("Page");
+  cmd->add_option("--pen-width", a.pen_width, "Pen width: mm (0.3, 0.3mm), cm, in, pt or px (1/96 in)")->capture_default_str()->group("Page");
   cmd->add_option("--dot-size", a.dot_size,
                   "Drawn dot diameter: mm (0.4, 0.4mm), cm, in, pt or input pixels (1.5px); 0 = one pen touch")
       ->capture_default_str()->group("Page");
@@ -117,18 +118,28 @@ void write_planned_output(const Drawing& d, const std::string& path, const std::
   check_profile_for(kind, path, profile);
   const PlanOptions po = plan_options_for(prof, d.page, plan_args);
   auto t0 = std::chrono::steady_clock::now();
-  Plan plan = plan_drawing(d, po);
+  PlanInfo plan_info;
+  Plan plan = plan_drawing(d, po, &plan_info);
   double plan_s = seconds_since(t0);
   auto t1 = std::chrono::steady_clock::now();
   write_plan_file(plan, path, prof, show_travel);
   summary["output"] = path;
   summary["profile"] = prof.name;
-  summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin));
+  // A G-code job ends with the pen back at machine zero, an HPGL job where it stops.
+  summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin, kind == OutputKind::gcode));
   summary["seconds_plan"] = plan_s;
+  // Only a tripped --optimize-seconds cap makes the plan depend on the machine's speed.
+  summary["plan_capped"] = plan_info.budget_hit;
   summary["seconds_write"] = seconds_since(t1);
 }
 
 std::string layers_phrase(size_t n) { return std::to_string(n) + (n == 1 ? " layer" : " layers"); }
+
+std::string sheet_phrase(const Page& page) {
+  std::ostringstream s;
+  s << page.width_mm << " x " << page.height_mm << " mm";
+  return s.str();
+}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

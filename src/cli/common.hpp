@@ -66,6 +66,8 @@ void write_plan_file(const Plan& plan, const std::string& path, const DeviceProf
 
 // "1 layer", "3 layers".
 std::string layers_phrase(size_t n);
+// "297 x 210 mm".
+std::string sheet_phrase(const Page& page);
 
 double seconds_since(std::chrono::steady_clock::time_point t0);
 

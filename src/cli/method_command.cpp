@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "budget/density_search.hpp"
 #include "budget/duration.hpp"
+#include "cli/layout_options.hpp"
 #include "drivers/motion/plan_stats.hpp"
 #include "eval/fidelity.hpp"
 #include "plan/planner.hpp"
@@ -21,6 +23,9 @@ struct MethodCommand::Args {
   std::string profile = "grbl-servo";  // the plotter: its time model sets the budget, its writer .gcode/.hpgl
   PlanArgs plan;
   std::string time = "1h";             // the plot-time budget on the profile
+  LayoutArgs layout;                   // for outputs to a device, or when asked
+  CLI::Option* profile_option = nullptr;
+  CLI::Option* page_option = nullptr;
   double preview_dpi = 150;
   uint64_t max_pixels = 100'000'000;
   PlacementArgs place;
@@ -92,21 +97,24 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
   cmd->add_option("-o,--output", a.output,
                   "Output file: .svg (the drawing), .gcode (grbl) or .hpgl (planned for --profile)")
       ->required()->group("Output");
-  cmd->add_option("--profile", a.profile,
-                  "Device profile NAME or PATH (see `stipplot profiles`): the plotter the --time budget is for, and "
-                  "the writer of .gcode/.hpgl")
-      ->capture_default_str()->group("Output");
+  a.profile_option =
+      cmd->add_option("--profile", a.profile,
+                      "Device profile NAME or PATH (see `stipplot profiles`): the plotter the --time budget is for, "
+                      "the writer of .gcode/.hpgl, whose sheet is the default page when named or written for")
+          ->capture_default_str()->group("Output");
   cmd->add_option("--time", a.time,
                   "Plot-time budget on --profile (45min, 1h, 1.5h, 1h30min): the density is chosen so the planned "
                   "plot fits it")
       ->capture_default_str()->group("Output");
   add_plan_options(cmd, a.plan);
+  add_layout_options(cmd, a.layout, false);
   cmd->add_option("--preview", a.preview, "Also write a preview PNG of what the pens will draw")->group("Output");
   cmd->add_option("--preview-dpi", a.preview_dpi, "Preview resolution")->capture_default_str()->group("Output");
   add_report_options(cmd, a.report);
   cmd->add_option("--max-pixels", a.max_pixels, "Refuse images with more pixels than this")
       ->capture_default_str()->group("Input");
   add_placement_options(cmd, a.place);
+  a.page_option = cmd->get_option("--page");
   m->cmd_ = cmd;
   // The app owns the callback, the callback keeps the command alive.
   cmd->callback([m] { m->run(); });
@@ -179,17 +187,43 @@ BudgetReport report_budget(const MethodDraft& draft, const budget::SearchOutcome
   return rep;
 }
 
+// The device a method's drawing is laid out for: the profile of a .gcode/.hpgl output, or
+// one named with --profile for an SVG; none for a plain SVG.
+std::optional<DeviceProfile> layout_device(const std::string& output, const std::string& profile, bool profile_given) {
+  if (output_kind(output) == OutputKind::svg && !profile_given) return std::nullopt;
+  return find_profile(profile);
+}
+
+// A method's page for a device: the paper (--page, else the device's sheet), upright unless
+// --landscape (the layout turns it to the sheet), with a margin no narrower than the
+// border of the sheet the device cannot reach, so the drawing lands inside the travel.
+Placement placement_for_device(Placement p, const LayoutArgs& sheet_args, const DeviceProfile& device, bool page_given) {
+  const Page sheet = sheet_for(sheet_args, device);
+  if (!page_given) p.page = {std::min(sheet.width_mm, sheet.height_mm), std::max(sheet.width_mm, sheet.height_mm)};
+  p.margin_mm = std::max(p.margin_mm, unreachable_border_mm(device, sheet));
+  return p;
+}
+
 }  // namespace
 
 void MethodCommand::run() const {
   const auto t0 = std::chrono::steady_clock::now();
   const Args& a = *args_;
   check_();
-  const Placement placement = a.place.resolve();
+  Placement placement = a.place.resolve();
   check_outputs();
+  check_layout_args(a.layout);
+  const bool page_given = a.page_option && a.page_option->count() > 0;
+  const auto device = layout_device(a.output, a.profile, a.profile_option && a.profile_option->count() > 0);
+  LayoutArgs sheet_args = a.layout;  // the method's own --page is the paper it is laid on
+  if (page_given) sheet_args.page = a.place.page;
+  if (device) placement = placement_for_device(placement, sheet_args, *device, page_given);
   LoadOptions lo;
   lo.max_pixels = a.max_pixels;
   const Image image = load_image(a.input, lo);
+  // For a device the page is turned like the photo: a landscape photo lies across it, a
+  // portrait one is turned to the sheet by the layout.
+  if (device && !a.place.landscape) placement.landscape = image.width > image.height;
   const PageTransform tf = placement.transform(image.width, image.height);
   const DeviceProfile prof = find_profile(a.profile);
   const double budget_s = budget::parse_duration(a.time);
@@ -215,9 +249,11 @@ void MethodCommand::run() const {
   runs.clear();
   const double method_s = seconds_since(t1);
 
+  // The plan of the method's page: what the preview and the measures render, and the
+  // plot time (a layout for the device moves and turns the drawing, which keeps it).
   const auto t2 = std::chrono::steady_clock::now();
   const Plan plan = plan_drawing(r.drawing, po);
-  const PlanStats stats = plan_stats(plan, prof.motion, po.origin);
+  const PlanStats stats = plan_stats(plan, prof.motion, po.origin, output_kind(a.output) == OutputKind::gcode);
   nlohmann::json s = r.summary;
   s["command"] = name_;
   s["input"] = a.input;
@@ -228,19 +264,29 @@ void MethodCommand::run() const {
   const BudgetReport budget_report = report_budget(draft, so, budget_s, stats.total.seconds, prof.name);
   s["budget"] = budget_report.json;
   MethodRun mr(image, tf, r, plan, a.preview_dpi, s);
-  write_outputs(r, mr, s);
+  // -o gets the drawing laid out for the device; the preview and the measurements keep
+  // the method's page, where the image lies as the transform says.
+  std::string laid_out;
+  const bool lay_out = device || a.layout.any_given();
+  const Drawing out = lay_out ? lay_out_for_device(r.drawing, sheet_args, device ? &*device : nullptr,
+                                                   placement.margin_mm, s, laid_out)
+                              : Drawing{};
+  write_outputs(r, lay_out ? &out : nullptr, mr, s);
   if (r.measure) r.measure(mr);
   s["seconds_method"] = method_s;
   s["seconds"] = seconds_since(t0);
-  a.report.print(s, sentence(r, mr, s, budget_report.words));
+  a.report.print(s, sentence(r, mr, s, budget_report.words) + (laid_out.empty() ? "" : "; " + laid_out));
 }
 
-void MethodCommand::write_outputs(MethodResult& r, MethodRun& run, nlohmann::json& s) const {
+void MethodCommand::write_outputs(MethodResult& r, const Drawing* laid_out, MethodRun& run, nlohmann::json& s) const {
   const Args& a = *args_;
-  const Drawing& d = r.drawing;
+  const Drawing& d = laid_out ? *laid_out : r.drawing;
   const auto t0 = std::chrono::steady_clock::now();
   if (output_kind(a.output) == OutputKind::svg) {
     write_svg(d, a.output);
+  } else if (laid_out) {
+    // Laid out for the device: planned again on its sheet (the summary's plan is this one).
+    write_planned_output(d, a.output, a.profile, a.plan, false, s);
   } else {
     write_plan_file(run.plan, a.output, find_profile(a.profile), false);
   }

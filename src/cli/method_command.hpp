@@ -130,7 +130,8 @@ class MethodCommand {
   MethodCommand() = default;
   void run() const;
   void check_outputs() const;
-  void write_outputs(MethodResult& r, MethodRun& run, nlohmann::json& s) const;
+  // `laid_out` is the drawing for -o laid out for the device (null: r.drawing itself).
+  void write_outputs(MethodResult& r, const Drawing* laid_out, MethodRun& run, nlohmann::json& s) const;
   std::string sentence(const MethodResult& r, const MethodRun& run, const nlohmann::json& s,
                        const std::string& budget_words) const;
 

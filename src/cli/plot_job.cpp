@@ -54,22 +54,31 @@ void check_job_name(const std::string& path, const DeviceProfile& prof) {
 }  // namespace
 
 PreparedJob prepare_job(const PlotJobRequest& r) {
-  if (is_job_file(r.input)) return {r.input, dialect_of(r.input), r.profile};
+  if (is_job_file(r.input)) {
+    if (r.layout.any_given())
+      throw UserError("layout and layer options apply to an SVG drawing; " + r.input + " is a finished job, plotted as it is");
+    return {r.input, dialect_of(r.input), r.profile, {}};
+  }
   if (!has_extension(r.input, ".svg"))
     throw UserError("plot takes an SVG drawing or a .gcode/.hpgl job; for an image, run a method first (e.g. "
                     "stipplot stipple photo.jpg -o photo.svg) and plot the SVG");
   const std::string profile = r.profile.empty() ? kDefaultProfile : r.profile;
   DeviceProfile prof = find_profile(profile);
+  check_layout_args(r.layout);
+  (void)r.plan.resolve();
   Drawing d = read_svg(r.input);
-  if (d.primitive_count() == 0) throw UserError(r.input + ": nothing to plot (no visible shapes)");
+  if (d.primitive_count() == 0) throw UserError(r.input + ": nothing to plot (no visible shapes or text)");
+  nlohmann::json plan_summary;  // plot reports the streaming, not the plan
+  std::string note;
+  d = lay_out_for_device(std::move(d), r.layout, &prof, -1, plan_summary, note);
+  if (d.primitive_count() == 0) throw UserError(r.input + ": nothing left to plot on the sheet (" + note + ")");
   const bool hpgl = prof.protocol == Protocol::hpgl;
   std::string path = r.job_out.empty()
                          ? std::filesystem::path(r.input).replace_extension(hpgl ? ".hpgl" : ".gcode").string()
                          : r.job_out;
   if (!r.job_out.empty()) check_job_name(path, prof);
-  nlohmann::json plan_summary;  // plot reports the streaming, not the plan
-  write_planned_output(d, path, profile, PlanArgs{}, false, plan_summary);
-  return {path, hpgl ? io::Dialect::Hpgl : io::Dialect::GCode, prof.name};
+  write_planned_output(d, path, profile, r.plan, false, plan_summary);
+  return {path, hpgl ? io::Dialect::Hpgl : io::Dialect::GCode, prof.name, note};
 }
 
 }  // namespace stipplot::cli

@@ -4,6 +4,8 @@
 // does). The device is the profile, or a generic one for the job's dialect.
 #include <string>
 
+#include "cli/layout_options.hpp"
+#include "cli/plan_options.hpp"
 #include "drivers/device/profile.hpp"
 #include "drivers/job/job.hpp"
 
@@ -11,11 +13,14 @@ namespace stipplot::cli {
 
 struct PlotJobRequest {
   std::string input, profile, job_out;
+  PlanArgs plan;      // for an SVG
+  LayoutArgs layout;  // for an SVG: a job file is plotted as it is
 };
 struct PreparedJob {
   std::string path;  // the job file streamed (and journalled as PATH.journal)
   io::Dialect dialect = io::Dialect::GCode;
   std::string profile;
+  std::string layout_note;  // what laying the SVG out on the sheet did, for the log
 };
 
 bool is_job_file(const std::string& path);

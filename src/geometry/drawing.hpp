@@ -19,6 +19,9 @@ struct Pen {
   std::string name = "black";
   Color color = colors::black;
   double width_mm = 0.3;
+  // The device's pen for this layer (1, 2, ...); 0: the layer's position (layer i, pen i).
+  // Layers given the same number are drawn with one pen, one after the other.
+  int number = 0;
 };
 
 struct Dot {
@@ -37,17 +40,41 @@ struct Circle {
   Color fill = colors::black;  // exact fill colour for SVG/preview; plotters use the pen
 };
 
+// Which points a set of rings fills (SVG's fill-rule): nonzero winding, or an odd number
+// of crossings (so a ring inside another is a hole either way when they run opposite).
+enum class FillRule { nonzero, evenodd };
+
+// A filled region: closed rings (each repeats its first point at the end); the rule says
+// which points are inside, so holes are rings it leaves empty. A plotter draws it as a
+// hatch at the pen width; SVG and the preview fill it.
+struct Area {
+  std::vector<Polyline> rings;
+  FillRule rule = FillRule::nonzero;
+  Color fill = colors::black;  // exact fill colour for SVG/preview; plotters use the pen
+};
+
 struct Layer {
   Pen pen;
   std::vector<Dot> dots;
   std::vector<Polyline> lines;
   std::vector<Circle> circles;
-  size_t primitive_count() const { return dots.size() + lines.size() + circles.size(); }
+  std::vector<Area> areas;
+  size_t primitive_count() const { return dots.size() + lines.size() + circles.size() + areas.size(); }
 };
 
 struct Page {
   double width_mm = 210, height_mm = 297;
   Color paper = colors::white;
+};
+
+// An axis-aligned rectangle in page millimetres.
+struct Rect {
+  double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  double width() const { return x1 - x0; }
+  double height() const { return y1 - y0; }
+  bool empty() const { return !(x1 > x0 && y1 > y0); }
+  bool contains(Vec2 p) const { return p.x >= x0 && p.x <= x1 && p.y >= y0 && p.y <= y1; }
+  Rect intersect(const Rect& o) const;
 };
 
 struct Drawing {
@@ -57,5 +84,10 @@ struct Drawing {
   // Bounding box of every primitive (including dot/circle extents); false if empty.
   bool bounds(Vec2& lo, Vec2& hi) const;
 };
+
+// Gives every layer without a pen number (0) the lowest number no other layer has, in
+// layer order, so numbered layers keep theirs and unnumbered ones never share a pen by
+// accident (layers 1 and "2 red" and an unnumbered one: 1, 2, 3). O(layers log layers).
+void resolve_pen_numbers(Drawing& d);
 
 }  // namespace stipplot

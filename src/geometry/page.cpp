@@ -21,13 +21,13 @@ PageSpec parse_page(const std::string& text) {
                                 {"tabloid", 279.4, 431.8}};
   for (const auto& n : named)
     if (t == n.name) return {n.w, n.h};
-  // WxH with one unit for both sides (the shared length grammar; px has no size on paper).
+  // WxH with one unit for both sides (the shared length grammar).
   if (const size_t x = t.find('x'); x != std::string::npos) {
     double w = 0, h = 0;
     std::string left_unit, unit;
     if (!split_number_unit(std::string_view(t).substr(0, x), w, left_unit) || !left_unit.empty() ||
         !split_number_unit(std::string_view(t).substr(x + 1), h, unit) || mm_per_unit(unit) == 0)
-      throw UserError("--page: cannot read '" + text + "' as WxH with a unit of mm, cm, in or pt");
+      throw UserError("--page: cannot read '" + text + "' as WxH with a unit of mm, cm, in, pt or px");
     w *= mm_per_unit(unit);
     h *= mm_per_unit(unit);
     if (!(w > 0) || !(h > 0) || w > 100000 || h > 100000)

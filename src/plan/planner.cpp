@@ -5,6 +5,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "plan/hatch.hpp"
+#include "plan/path_ops.hpp"
 #include "plan/tour.hpp"
 #include "util/error.hpp"
 
@@ -18,17 +20,30 @@ void PlanOptions::validate() const {
   require_range("neighbors", neighbors, 1, 64);
   require_range("origin x", origin.x, -1e6, 1e6);
   require_range("origin y", origin.y, -1e6, 1e6);
+  require_range("--optimize-effort", optimize_effort, 0, 1000);
+  require_range("--hatch-spacing", hatch_spacing_mm, 0, 1000);
+  require_range("--hatch-angle", hatch_angle_degrees, -360, 360);
+  require_range("--simplify", simplify_mm, 0, 100);
+  require_range("--min-length", min_length_mm, 0, 10000);
+  require_range("--multipass", passes, 1, 100);
 }
 
 namespace {
 
-std::vector<Stroke> layer_strokes(const Layer& layer, const PlanOptions& opt) {
+// A layer's primitives as strokes, with the path operations that do not depend on the
+// order: joins, simplification and the length filter for polylines, fills, passes.
+void add_layer_strokes(const Layer& layer, const PlanOptions& opt, std::vector<Stroke>& out) {
   plan::FillOptions fill;
   fill.mode = opt.fill;
   fill.pen_width = layer.pen.width_mm;
   fill.pitch_fraction = opt.fill_pitch;
   fill.chord_tolerance = opt.chord_tolerance_mm;
-  std::vector<Stroke> out = plan::join_polylines(layer.lines, opt.join_tolerance_mm);
+  const size_t first = out.size();
+  for (Stroke& s : plan::join_polylines(layer.lines, opt.join_tolerance_mm)) {
+    if (opt.simplify_mm > 0) plan::simplify_stroke(s, opt.simplify_mm);
+    if (opt.min_length_mm > 0 && s.pts.size() >= 2 && plan::stroke_length(s) < opt.min_length_mm) continue;
+    out.push_back(std::move(s));
+  }
   out.reserve(out.size() + layer.dots.size() + layer.circles.size());
   for (const Dot& dot : layer.dots) {
     if (dot.diameter <= layer.pen.width_mm) {
@@ -38,7 +53,46 @@ std::vector<Stroke> layer_strokes(const Layer& layer, const PlanOptions& opt) {
     }
   }
   for (const Circle& c : layer.circles) out.push_back(plan::circle_stroke(c, fill));
-  return out;
+  plan::HatchOptions hatch;
+  hatch.spacing_mm = opt.hatch_spacing_mm > 0 ? opt.hatch_spacing_mm : opt.fill_pitch * layer.pen.width_mm;
+  hatch.angle_degrees = opt.hatch_angle_degrees;
+  // An area's outline is among the layer's lines already (the reader and the layout's
+  // clipping put it there): --fill none leaves only that.
+  if (opt.fill != plan::FillMode::None)
+    for (const Area& a : layer.areas)
+      for (Stroke& s : plan::hatch_area(a, hatch)) out.push_back(std::move(s));
+  if (opt.passes > 1)
+    for (size_t i = first; i < out.size(); ++i) plan::multipass_stroke(out[i], opt.passes);
+}
+
+// The layers each pen draws, in the order pens are first used.
+struct PenGroup {
+  Pen pen;
+  std::vector<const Layer*> layers;
+};
+
+std::vector<PenGroup> group_by_pen(const Drawing& d) {
+  Drawing numbered;
+  numbered.layers.reserve(d.layers.size());
+  for (const Layer& l : d.layers) {
+    Layer shell;
+    shell.pen = l.pen;
+    numbered.layers.push_back(std::move(shell));
+  }
+  resolve_pen_numbers(numbered);  // only the pens: the primitives stay where they are
+  std::vector<PenGroup> groups;
+  for (size_t i = 0; i < d.layers.size(); ++i) {
+    const Pen& pen = numbered.layers[i].pen;
+    auto it = std::find_if(groups.begin(), groups.end(), [&](const PenGroup& g) { return g.pen.number == pen.number; });
+    if (it == groups.end()) {
+      groups.push_back({pen, {}});
+      it = groups.end() - 1;
+    } else if (it->pen.name != pen.name) {
+      it->pen.name += "+" + pen.name;
+    }
+    it->layers.push_back(&d.layers[i]);
+  }
+  return groups;
 }
 
 // Non-finite coordinates would break the kd-trees' ordering and the fills' loops.
@@ -55,9 +109,72 @@ void validate_layer(const Layer& l) {
   for (const Circle& c : l.circles)
     if (!finite(c.c) || !(c.r >= 0 && c.r <= 1000))
       throw UserError("pen '" + l.pen.name + "': a circle has a non-finite centre or a radius outside 0..1000 mm");
+  for (const Area& a : l.areas)
+    for (const Polyline& ring : a.rings)
+      for (const Vec2& p : ring.pts)
+        if (!finite(p)) throw UserError("pen '" + l.pen.name + "': a filled shape has a non-finite point");
 }
 
-size_t node_count(const Layer& l) { return l.dots.size() + l.circles.size() + 2 * l.lines.size(); }
+size_t node_count(const Layer& l) {
+  size_t rings = 0;
+  for (const Area& a : l.areas) rings += a.rings.size();
+  return l.dots.size() + l.circles.size() + 2 * l.lines.size() + 2 * rings;
+}
+
+// The strokes in tour order from `pos`, each turned the way the tour enters it.
+// `share` is this pen's part of the drawing's nodes: its part of the trials and of the cap.
+std::vector<Stroke> order_strokes(std::vector<Stroke> strokes, Vec2 pos, const PlanOptions& opt, size_t total_nodes,
+                                  double share, PlanInfo& info) {
+  // Nodes: a one-point stroke is one node; a longer stroke is two (its ends),
+  // partners that the tour keeps adjacent.
+  std::vector<Vec2> pts;
+  std::vector<int32_t> partner;
+  std::vector<uint32_t> stroke_of;
+  pts.reserve(2 * strokes.size());
+  for (uint32_t i = 0; i < strokes.size(); ++i) {
+    const auto& p = strokes[i].pts;
+    if (p.size() == 1) {
+      pts.push_back(p[0]);
+      partner.push_back(-1);
+      stroke_of.push_back(i);
+    } else {
+      const int32_t a = static_cast<int32_t>(pts.size());
+      pts.push_back(p.front());
+      pts.push_back(p.back());
+      partner.push_back(a + 1);
+      partner.push_back(a);
+      stroke_of.push_back(i);
+      stroke_of.push_back(i);
+    }
+  }
+  plan::TourOptions topt;
+  topt.neighbors = opt.neighbors;
+  // Past the ceiling the trials stop growing with the drawing: there the local optimum
+  // alone is within the planner's targets, and trials would cost seconds.
+  topt.kicks = std::lround(opt.optimize_effort *
+                           std::min(static_cast<double>(total_nodes), PlanOptions::kTrialPointCeiling) * share);
+  topt.seconds_cap = opt.optimize_seconds * share;
+  plan::TourStats ts;
+  const std::vector<uint32_t> order = plan::plan_tour(pts, partner, pos, topt, &ts);
+  info.budget_hit = info.budget_hit || ts.capped;
+  info.improving_moves += ts.moves_2opt + ts.moves_oropt;
+  std::vector<Stroke> out;
+  out.reserve(strokes.size());
+  for (size_t k = 0; k < order.size(); ++k) {
+    const uint32_t v = order[k];
+    Stroke& s = strokes[stroke_of[v]];
+    if (partner[v] >= 0) {
+      // Entered at node v: v is the stroke's start if it is the first of the pair.
+      const bool reversed = static_cast<uint32_t>(partner[v]) < v;
+      if (reversed) std::reverse(s.pts.begin(), s.pts.end());
+      if (k + 1 >= order.size() || order[k + 1] != static_cast<uint32_t>(partner[v]))
+        throw std::logic_error("plan_tour separated a stroke's ends");
+      ++k;  // the partner follows
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -76,53 +193,18 @@ Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info) {
     total_nodes += node_count(l);
   }
   Vec2 pos = opt.origin;
-  for (const Layer& layer : d.layers) {
+  for (const PenGroup& group : group_by_pen(d)) {
     PlannedLayer out;
-    out.pen = layer.pen;
-    std::vector<Stroke> strokes = layer_strokes(layer, opt);
-    // Nodes: a one-point stroke is one node; a longer stroke is two (its ends),
-    // partners that the tour keeps adjacent.
-    std::vector<Vec2> pts;
-    std::vector<int32_t> partner;
-    std::vector<uint32_t> stroke_of;
-    pts.reserve(2 * strokes.size());
-    for (uint32_t i = 0; i < strokes.size(); ++i) {
-      const auto& p = strokes[i].pts;
-      if (p.size() == 1) {
-        pts.push_back(p[0]);
-        partner.push_back(-1);
-        stroke_of.push_back(i);
-      } else {
-        const int32_t a = static_cast<int32_t>(pts.size());
-        pts.push_back(p.front());
-        pts.push_back(p.back());
-        partner.push_back(a + 1);
-        partner.push_back(a);
-        stroke_of.push_back(i);
-        stroke_of.push_back(i);
-      }
+    out.pen = group.pen;
+    std::vector<Stroke> strokes;
+    size_t nodes = 0;
+    for (const Layer* layer : group.layers) {
+      add_layer_strokes(*layer, opt, strokes);
+      nodes += node_count(*layer);
     }
-    plan::TourOptions topt;
-    topt.neighbors = opt.neighbors;
-    topt.seconds = total_nodes == 0 ? 0 : opt.optimize_seconds * static_cast<double>(node_count(layer)) / total_nodes;
-    plan::TourStats ts;
-    const std::vector<uint32_t> order = plan::plan_tour(pts, partner, pos, topt, &ts);
-    local.budget_hit = local.budget_hit || ts.budget_hit;
-    local.improving_moves += ts.moves_2opt + ts.moves_oropt;
-    out.strokes.reserve(strokes.size());
-    for (size_t k = 0; k < order.size(); ++k) {
-      const uint32_t v = order[k];
-      Stroke& s = strokes[stroke_of[v]];
-      if (partner[v] >= 0) {
-        // Entered at node v: v is the stroke's start if it is the first of the pair.
-        const bool reversed = static_cast<uint32_t>(partner[v]) < v;
-        if (reversed) std::reverse(s.pts.begin(), s.pts.end());
-        if (k + 1 >= order.size() || order[k + 1] != static_cast<uint32_t>(partner[v]))
-          throw std::logic_error("plan_tour separated a stroke's ends");
-        ++k;  // the partner follows
-      }
-      out.strokes.push_back(std::move(s));
-    }
+    const double share = total_nodes == 0 ? 0 : static_cast<double>(nodes) / total_nodes;
+    out.strokes = order_strokes(std::move(strokes), pos, opt, total_nodes, share, local);
+    if (opt.reloop) plan::reloop_strokes(out.strokes, pos);
     if (!out.strokes.empty()) pos = out.strokes.back().pts.back();
     plan.layers.push_back(std::move(out));
   }

@@ -6,6 +6,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "geometry/shapes.hpp"
 #include "spatial/kdtree.hpp"
 #include "util/error.hpp"
 
@@ -218,24 +219,8 @@ const char* to_string(FillMode m) {
   return "?";
 }
 
-namespace {
-// Largest angle step whose chord stays within `tol` of an arc of radius r.
-double angle_step(double r, double tol) {
-  if (r <= tol) return std::numbers::pi / 4;
-  return std::min(std::numbers::pi / 4, 2 * std::acos(1 - tol / r));
-}
-}  // namespace
-
 Stroke circle_outline(Vec2 c, double r, double chord_tolerance, double start_angle) {
-  const double two_pi = 2 * std::numbers::pi;
-  const int n = std::max(8, static_cast<int>(std::ceil(two_pi / angle_step(r, chord_tolerance))));
-  Stroke s;
-  s.pts.reserve(n + 1);
-  for (int k = 0; k <= n; ++k) {
-    const double a = start_angle + two_pi * (k == n ? 0 : k) / n;
-    s.pts.push_back({c.x + r * std::cos(a), c.y + r * std::sin(a)});
-  }
-  return s;
+  return Stroke{circle_points(c, r, chord_tolerance, start_angle)};
 }
 
 Stroke circle_stroke(const Circle& circle, const FillOptions& opt) {
@@ -246,7 +231,7 @@ Stroke circle_stroke(const Circle& circle, const FillOptions& opt) {
   if (opt.mode == FillMode::None) return circle_outline(circle.c, R, opt.chord_tolerance);
   const double max_pitch = opt.pitch_fraction * w;
   const double passes = std::ceil(R / max_pitch) * (opt.mode == FillMode::Hatch ? 2 : 1);
-  const double per_pass = opt.mode == FillMode::Hatch ? 2 : 2 * std::numbers::pi / angle_step(R, opt.chord_tolerance);
+  const double per_pass = opt.mode == FillMode::Hatch ? 2 : 2 * std::numbers::pi / chord_angle_step(R, opt.chord_tolerance);
   if (passes * per_pass > 2e7)
     throw UserError("a filled circle of radius " + std::to_string(circle.r) + " mm needs too many fill passes at pen width " +
                     std::to_string(w) + " mm");
@@ -261,7 +246,7 @@ Stroke circle_stroke(const Circle& circle, const FillOptions& opt) {
       const double rho = pitch * theta / (2 * std::numbers::pi);
       s.pts.push_back({c.x + rho * std::cos(theta), c.y + rho * std::sin(theta)});
       if (theta >= theta_end) break;
-      theta = std::min(theta_end, theta + angle_step(std::max(rho, pitch), opt.chord_tolerance));
+      theta = std::min(theta_end, theta + chord_angle_step(std::max(rho, pitch), opt.chord_tolerance));
     }
     // The spiral ends at angle 0 (a whole number of turns) on radius R: close with
     // the outline from there.

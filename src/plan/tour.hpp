@@ -10,24 +10,39 @@
 
 namespace stipplot::plan {
 
+enum class TourStart { GreedyEdge, NearestNeighbour };
+
 struct TourOptions {
-  double seconds = 1.0;   // improvement budget; 0 = greedy construction only
-  int neighbors = 10;     // candidate list size for 2-opt / Or-opt
+  TourStart start = TourStart::GreedyEdge;
+  bool improve = true;          // 2-opt/Or-opt to a local optimum (false: construction only)
+  // The work budget after the local optimum: perturbation trials. Work, not time, so
+  // the same nodes and options give the same path on any machine at any load.
+  long kicks = 0;
+  // Wall-clock cap on the improvement: when it trips, the path is the best found so
+  // far, no longer reproducible. 0 = construction only.
+  double seconds_cap = 60;
+  int neighbors = 10;           // candidate list size
+  uint64_t seed = 1;            // of the perturbations
 };
 
 struct TourStats {
   double construct_seconds = 0, improve_seconds = 0;
   long moves_2opt = 0, moves_oropt = 0;
-  bool budget_hit = false;  // false: stopped at a local optimum (deterministic)
+  long kicks = 0, kicks_kept = 0;  // perturbations made, and kept for shortening the path
+  long long reversed = 0;          // array elements moved by reversals (the main cost)
+  double gain = 0;                 // travel the improvement saved, as its moves reckon it
+  bool capped = false;             // the wall-clock cap stopped the improvement
 };
 
 // Returns every node exactly once, the path starting nearest `start`, with each
 // node i that has partner[i] >= 0 next to its partner (partner must be symmetric).
-// Construction: greedy nearest neighbour over a kd-tree with deletion, O(n log n).
-// Improvement: 2-opt and Or-opt (segments of 1-3 nodes, either orientation) over
-// k-nearest-neighbour candidate lists with a work queue, on an array tour that
-// reverses the shorter side: O(k) per node visit plus the reversal lengths, run to
-// a local optimum or until the time budget.
+// Nodes are first renumbered in kd-tree order (O(n log n)) so that near nodes are near
+// in memory. Candidates: k nearest neighbours, O(n k log n). Construction: greedy edge
+// matching, O(n k log(n k)), or greedy nearest neighbour, O(n log n). Improvement:
+// 2-opt and Or-opt with a work queue (don't-look bits) on an array that reverses the
+// shorter side, to a local optimum: O(k) per examined node plus the reversals, in
+// practice O(n) examinations; then `kicks` segment-swap perturbations, each O(segment +
+// the local search it triggers, whose reversals are capped) and undone unless it helps.
 std::vector<uint32_t> plan_tour(const std::vector<Vec2>& pts, const std::vector<int32_t>& partner, Vec2 start,
                                 const TourOptions& opt, TourStats* stats = nullptr);
 

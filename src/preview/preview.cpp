@@ -73,6 +73,19 @@ SurfacePtr render_surface(const Drawing& d, const PreviewOptions& opt) {
         cairo_stroke(c);
       }
     }
+    for (const auto& area : layer.areas) {
+      cairo_new_path(c);
+      for (const auto& ring : area.rings) {
+        if (ring.pts.size() < 3) continue;
+        cairo_move_to(c, ring.pts[0].x, ring.pts[0].y);
+        for (size_t i = 1; i < ring.pts.size(); ++i) cairo_line_to(c, ring.pts[i].x, ring.pts[i].y);
+        cairo_close_path(c);
+      }
+      cairo_set_fill_rule(c, area.rule == FillRule::evenodd ? CAIRO_FILL_RULE_EVEN_ODD : CAIRO_FILL_RULE_WINDING);
+      set_colour(c, area.fill);
+      cairo_fill(c);
+      set_colour(c, layer.pen.color);
+    }
     cairo_set_line_width(c, layer.pen.width_mm);
     for (const auto& pl : layer.lines) {
       if (pl.pts.empty()) continue;

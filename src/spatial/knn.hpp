@@ -12,15 +12,16 @@ namespace stipplot::spatial {
 
 class PlaneKnn {
  public:
-  // Indexes pts[0, n) (the vector must outlive this). O(n log n).
+  // Indexes pts[0, n) (copied: each distinct position once). O(n log n).
   PlaneKnn(const std::vector<Vec2>& pts, size_t n);
   ~PlaneKnn();
   PlaneKnn(const PlaneKnn&) = delete;
   PlaneKnn& operator=(const PlaneKnn&) = delete;
   // Writes the indices of the k indexed points nearest q, nearest first, and their
   // squared distances into out[0, k) and dist2[0, k); returns how many (fewer when
-  // fewer points are indexed). Equally near points come in nanoflann's search order,
-  // which the plans' tie-breaking depends on. O(k log n).
+  // fewer points are indexed). Equally near points at different positions come in
+  // nanoflann's search order, coincident points by index: the plans' tie-breaking
+  // depends on both. O(k log n), however many points coincide.
   size_t k_nearest(Vec2 q, size_t k, uint32_t* out, double* dist2) const;
 
  private:

@@ -62,6 +62,7 @@ double mm_per_unit(std::string_view unit) {
   if (unit == "cm") return 10;
   if (unit == "in") return 25.4;
   if (unit == "pt") return 25.4 / 72;
+  if (unit == "px") return 25.4 / 96;
   return 0;
 }
 
@@ -93,12 +94,9 @@ Length Length::parse(std::string_view text, const char* option, Bare bare) {
 double parse_paper_mm(std::string_view text, const char* option) {
   double v = 0;
   std::string unit;
-  const char* examples = "10, 10mm, 1cm, 0.5in or 12pt";
+  const char* examples = "10, 10mm, 1cm, 0.5in, 12pt or 40px";
   if (!split_number_unit(text, v, unit) || !std::isfinite(v) || v < 0) bad_length(text, option, examples);
   const double f = mm_per_unit(unit);
-  if (unit == "px")
-    throw UserError(std::string(option) + ": a length on paper, not in image pixels: use mm, cm, in or pt, got '" +
-                    std::string(text) + "'");
   if (f == 0) bad_length(text, option, examples);
   return v * f;
 }

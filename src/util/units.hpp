@@ -1,8 +1,9 @@
 #pragma once
 // Lengths as users write them: a decimal number with an optional unit, one grammar for
-// every option and for page sizes. Paper units: mm, cm, in, pt (1/72 in); a bare number
-// is millimetres. "px" is an input-image pixel: how big a mark is relative to the photo,
-// which becomes millimetres only once the image is placed on the page.
+// every option and for page sizes. Paper units: mm, cm, in, pt (1/72 in), px (1/96 in,
+// CSS's and SVG's pixel); a bare number is millimetres. Options that size a mark against
+// the photo (Length::parse) read "px" as an input-image pixel instead, which becomes
+// millimetres only once the image is placed on the page.
 #include <string>
 #include <string_view>
 
@@ -13,8 +14,8 @@ namespace stipplot {
 // exponent; no hex, inf or nan) followed by nothing but letters and blanks.
 bool split_number_unit(std::string_view text, double& value, std::string& unit);
 
-// Millimetres per paper unit: "" and "mm" 1, "cm" 10, "in" 25.4, "pt" 25.4/72;
-// 0 for anything else (including "px", which is no paper length).
+// Millimetres per paper unit: "" and "mm" 1, "cm" 10, "in" 25.4, "pt" 25.4/72, "px" 25.4/96;
+// 0 for anything else.
 double mm_per_unit(std::string_view unit);
 
 // A length in millimetres on paper, or in input-image pixels.
@@ -31,8 +32,8 @@ struct Length {
   static Length parse(std::string_view text, const char* option, Bare bare = Bare::mm);
 };
 
-// A length that only exists on paper (margins, pen widths, tolerances): as Length::parse
-// with bare numbers in mm, but "px" is refused. Returns millimetres.
+// A length that only exists on paper (margins, pen widths, tolerances): bare numbers in
+// mm, "px" the CSS pixel of 1/96 in. Returns millimetres.
 double parse_paper_mm(std::string_view text, const char* option);
 
 }  // namespace stipplot

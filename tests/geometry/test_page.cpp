@@ -71,13 +71,16 @@ TEST_CASE("lengths - one grammar for paper units and image pixels", "[page][unit
   CHECK_THROWS_AS(Length::parse("inf", "--x"), UserError);
   CHECK(parse_paper_mm("10", "--margin") == 10);
   CHECK(parse_paper_mm("1.5cm", "--margin") == Approx(15));
-  CHECK_THROWS_WITH(parse_paper_mm("3px", "--margin"), Catch::Contains("--margin"));
+  // on paper a px is CSS's 1/96 in, as in SVG files
+  CHECK(parse_paper_mm("96px", "--margin") == Approx(25.4));
+  CHECK_THROWS_WITH(parse_paper_mm("3furlong", "--margin"), Catch::Contains("--margin"));
   CHECK_THROWS_WITH(parse_paper_mm("-1", "--margin"), Catch::Contains("--margin"));
   CHECK_THROWS_AS(parse_paper_mm("", "--margin"), UserError);
   // page sizes read their numbers and unit with the same grammar
   CHECK(parse_page("30x20cm").width_mm == Approx(300));
   CHECK(parse_page("720x360pt").height_mm == Approx(127));
-  CHECK_THROWS_WITH(parse_page("300x200px"), Catch::Contains("300x200px"));
+  CHECK(parse_page("960x480px").width_mm == Approx(254));
+  CHECK_THROWS_WITH(parse_page("300x200furlong"), Catch::Contains("300x200furlong"));
 }
 
 TEST_CASE("colours parse from hex, rgb() and names", "[color]") {

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include <cmath>
+
 #include "cli/plan_options.hpp"
 #include "util/error.hpp"
 
@@ -18,4 +20,20 @@ TEST_CASE("plan options parse and validate", "[plan][cli]") {
   a.fill = "none";
   a.optimize_seconds = -2;
   CHECK_THROWS_WITH(a.resolve(), Catch::Contains("--optimize-seconds"));
+}
+
+TEST_CASE("the optimisation effort is the work budget, the seconds only its cap", "[plan][cli]") {
+  CLI::App app;
+  cli::PlanArgs a;
+  cli::add_plan_options(&app, a);
+  app.parse("", false);
+  CHECK(a.resolve().optimize_effort == PlanOptions{}.optimize_effort);
+  CHECK(a.resolve().optimize_seconds == PlanOptions{}.optimize_seconds);
+  app.parse("--optimize-effort 2.5", false);
+  CHECK(a.resolve().optimize_effort == 2.5);
+  a.optimize_effort = -1;
+  CHECK_THROWS_WITH(a.resolve(), Catch::Contains("--optimize-effort"));
+  PlanOptions o;
+  o.optimize_effort = std::nan("");
+  CHECK_THROWS_WITH(o.validate(), Catch::Contains("--optimize-effort"));
 }

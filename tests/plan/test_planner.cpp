@@ -10,7 +10,6 @@
 #include "plan/planner.hpp"
 #include "drivers/motion/plan_stats.hpp"
 #include "plan/strokes.hpp"
-#include "plan/tour.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
 
@@ -154,33 +153,6 @@ TEST_CASE("polylines whose ends meet within the tolerance are joined", "[plan][j
   REQUIRE(sq.size() == 1);
   CHECK(sq[0].pts.front() == sq[0].pts.back());
   CHECK(segments_of(sq) == segments_of(square));
-}
-
-TEST_CASE("dot tour is a permutation, shorter than generation order and greedy", "[plan][tour]") {
-  auto pts = random_points(3000, 150, 11);
-  std::vector<int32_t> partner(pts.size(), -1);
-  std::vector<uint32_t> ident(pts.size());
-  for (uint32_t i = 0; i < ident.size(); ++i) ident[i] = i;
-  plan::TourOptions nn;
-  nn.seconds = 0;
-  const auto greedy = plan::plan_tour(pts, partner, {0, 0}, nn);
-  plan::TourOptions full;
-  full.seconds = 30;  // a local optimum long before this
-  plan::TourStats st;
-  const auto order = plan::plan_tour(pts, partner, {0, 0}, full, &st);
-  CHECK_FALSE(st.budget_hit);
-  auto sorted = order;
-  std::sort(sorted.begin(), sorted.end());
-  CHECK(sorted == ident);
-  const double t_gen = plan::tour_travel(pts, partner, {0, 0}, ident);
-  const double t_nn = plan::tour_travel(pts, partner, {0, 0}, greedy);
-  const double t_opt = plan::tour_travel(pts, partner, {0, 0}, order);
-  CHECK(t_opt < t_nn);
-  CHECK(t_nn < t_gen / 5);
-  const double mst = spatial::total_cost(spatial::euclidean_mst(pts));
-  CHECK(t_opt < 1.25 * mst);
-  // Deterministic at a local optimum.
-  CHECK(plan::plan_tour(pts, partner, {0, 0}, full) == order);
 }
 
 TEST_CASE("strokes are ordered with free direction, each exactly once", "[plan][tour]") {

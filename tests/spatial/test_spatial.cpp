@@ -132,3 +132,29 @@ TEST_CASE("k-nearest lists hold the k smallest distances, nearest first", "[spat
   const spatial::PlaneKnn few(p, 3);
   CHECK(few.k_nearest(p[0], 12, idx.data(), dist.data()) == 3);
 }
+
+TEST_CASE("k-nearest lists among heavily coincident points: coincident ones by index, in O(k log n)", "[spatial][knn]") {
+  // 200,000 points on 25 positions: a query that opened every equally near box would
+  // read 8,000 points each time (minutes for all of them).
+  std::vector<Vec2> p(200000);
+  for (size_t i = 0; i < p.size(); ++i) p[i] = {double(i % 5), double((i / 5) % 5)};
+  const spatial::PlaneKnn knn(p, p.size());
+  std::vector<uint32_t> idx(12);
+  std::vector<double> dist(12);
+  for (size_t q = 0; q < p.size(); ++q) {
+    REQUIRE(knn.k_nearest(p[q], 12, idx.data(), dist.data()) == 12);
+    if (q % 997 != 0) continue;
+    for (size_t j = 0; j < 12; ++j) {
+      CHECK(dist[j] == 0);
+      CHECK(p[idx[j]] == p[q]);
+      if (j > 0) CHECK(idx[j] > idx[j - 1]);
+    }
+    CHECK(idx[0] == q % 25);  // the lowest index at that position
+  }
+  // Beyond the coincident ones: the next position's points, nearest first.
+  const std::vector<Vec2> two = {{0, 0}, {0, 0}, {1, 0}, {1, 0}, {3, 0}};
+  const spatial::PlaneKnn small(two, two.size());
+  REQUIRE(small.k_nearest({0.2, 0}, 5, idx.data(), dist.data()) == 5);
+  CHECK(std::vector<uint32_t>(idx.begin(), idx.begin() + 5) == std::vector<uint32_t>{0, 1, 2, 3, 4});
+  CHECK(dist[2] == Approx(0.64));
+}

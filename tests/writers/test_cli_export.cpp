@@ -48,7 +48,7 @@ TEST_CASE("export writes a foreign SVG for every shipped profile", "[cli][export
       CHECK(text.find("SP2;") != std::string::npos);  // the red layer's pen
     } else {
       CHECK(text.find("\nG21\nG90\n") != std::string::npos);
-      CHECK(text.find("M0 (MSG,Change pen: layer 2 red") != std::string::npos);
+      CHECK(text.find("M0 (MSG,Change pen: pen 2 red") != std::string::npos);
     }
   }
   // the planned order as SVG, with the hidden travel layer
@@ -101,14 +101,20 @@ TEST_CASE("export refuses mismatched profiles, bad SVG and pages that do not fit
   CHECK(o.find("line 2: <path>") != std::string::npos);
   CHECK_FALSE(fs::exists(g));
 
-  // an A4 portrait drawing is taller than the 7475A's A4-landscape area
+  // an A4 portrait drawing, kept upright, is taller than the 7475A's A4-landscape area
   fs::path portrait = dir / "portrait.svg";
   std::ofstream(portrait) << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"210mm\" height=\"297mm\" "
                              "viewBox=\"0 0 210 297\"><line x1=\"20\" y1=\"20\" x2=\"20\" y2=\"280\" stroke=\"black\"/></svg>";
   fs::path h = dir / "p.hpgl";
-  o = run("export " + portrait.string() + " --profile hp7475a-a4 -o " + h.string(), status);
+  o = run("export " + portrait.string() + " --profile hp7475a-a4 --no-rotate -o " + h.string(), status);
   CHECK(status != 0);
   CHECK(o.find("outside the travel of profile hp7475a-a4") != std::string::npos);
+  CHECK(o.find("--fit") != std::string::npos);  // the advice names an option export has
   CHECK_FALSE(fs::exists(h));
+  // turned to the sheet's orientation, as the AxiDraw tools do, it fits, and says so
+  o = run("export " + portrait.string() + " --profile hp7475a-a4 -o " + h.string(), status);
+  CHECK(status == 0);
+  CHECK(o.find("rotated 90° to the sheet's orientation") != std::string::npos);
+  CHECK(fs::exists(h));
   fs::remove_all(dir);
 }

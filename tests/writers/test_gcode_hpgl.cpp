@@ -15,6 +15,8 @@
 
 #include "drivers/writers/gcode_writer.hpp"
 #include "drivers/writers/hpgl_writer.hpp"
+#include "drivers/job/hpgl_reader.hpp"
+#include "drivers/device/carousel.hpp"
 #include "drivers/device/machine.hpp"
 #include "drivers/device/profile.hpp"
 #include "util/error.hpp"
@@ -398,15 +400,48 @@ TEST_CASE("HPGL y axis points up from the lower-left corner", "[writers][hpgl]")
   CHECK(std::find(cmds.begin(), cmds.end(), "VS20;") != cmds.end());
 }
 
-TEST_CASE("HPGL refuses more layers than the plotter has pens", "[writers][hpgl]") {
+TEST_CASE("HPGL plans a reload pause when the plan has more pens than the carousel", "[writers][hpgl]") {
   DeviceProfile prof = find_profile("hp7475a-a3");
-  Plan plan = test::random_plan(5, 7, 3, 0, 420, 297, 15);
-  try {
-    hpgl_commands(plan, prof);
-    FAIL("expected a UserError");
-  } catch (const UserError& e) {
-    CHECK(std::string(e.what()).find("pens (6)") != std::string::npos);
+  Plan plan = test::random_plan(5, 8, 3, 0, 420, 297, 15);
+  plan.layers[6].pen.name = "red";
+  plan.layers[6].pen.color = {255, 0, 0};
+  const auto cmds = hpgl_commands(plan, prof);
+  std::vector<std::string> pauses, selects;
+  for (const auto& c : cmds) {
+    if (auto m = io::hpgl_pause_message(c)) pauses.push_back(*m);
+    if (c.rfind("SP", 0) == 0) selects.push_back(c);
   }
+  // pens 1-6 in their slots, then one stop to put pens 7 and 8 in (slots 1 and 2), the pen stowed first
+  REQUIRE(pauses.size() == 1);
+  CHECK(pauses[0] == "load pen 7 red #ff0000 in slot 1, pen 8 orange #000000 in slot 2");
+  CHECK(selects == std::vector<std::string>{"SP1;", "SP2;", "SP3;", "SP4;", "SP5;", "SP6;", "SP0;", "SP1;", "SP2;", "SP0;"});
+  // the job reader keeps the pause as one instruction the streamer can recognise
+  std::string text;
+  for (const auto& c : cmds) text += c;
+  const io::Job job = io::parse_hpgl_job(text);
+  size_t found = 0;
+  for (const auto& l : job.lines) found += io::hpgl_pause_message(l.text).has_value();
+  CHECK(found == 1);
+  CHECK_FALSE(io::hpgl_pause_message("CO\"a plain comment\";"));
+}
+
+TEST_CASE("layers on one pen number share its slot, and pens beyond the carousel reload", "[writers][hpgl]") {
+  PenSetup six;
+  six.count = 6;
+  Plan plan;
+  plan.layers.resize(4);
+  plan.layers[0].pen.number = 9;  // not in the carousel: a reload before the first layer
+  plan.layers[1].pen.number = 2;
+  plan.layers[2].pen.number = 12;
+  plan.layers[3].pen.number = 3;
+  const auto slots = plan_pen_slots(plan, six);
+  REQUIRE(slots[0].reload.size() == 2);  // 9 and 12 go in at once, 2 and 3 stay
+  CHECK(slots[0].reload[0].pen == 9);
+  CHECK(slots[0].reload[1].pen == 12);
+  CHECK(slots[1].slot == 2);
+  CHECK(slots[2].reload.empty());
+  CHECK(slots[3].slot == 3);
+  CHECK(slots[0].slot != slots[2].slot);
 }
 
 TEST_CASE("writers write files atomically with the profile's line ending", "[writers]") {

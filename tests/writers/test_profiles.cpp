@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "drivers/device/carousel.hpp"
 #include "drivers/device/profile.hpp"
 #include "util/error.hpp"
 
@@ -64,10 +65,19 @@ TEST_CASE("shipped HPGL profiles carry the machines' plotter units and pens", "[
   DeviceProfile dxy = find_profile("roland-dxy1300");
   CHECK(dxy.pen.count == 8);
   CHECK(dxy.machine.units_per_mm == 40);
-  CHECK(dxy.pen_for_layer(7) == 8);
-  CHECK_THROWS_AS(dxy.pen_for_layer(8), UserError);
+  // eight pens fit the carousel, a ninth needs a reload
+  Plan eight;
+  eight.layers.resize(8);
+  auto slots = plan_pen_slots(eight, dxy.pen);
+  CHECK(slots[7].slot == 8);
+  CHECK(slots[7].reload.empty());
+  Plan nine;
+  nine.layers.resize(9);
+  slots = plan_pen_slots(nine, dxy.pen);
+  CHECK(slots[8].pen == 9);
+  CHECK(slots[8].reload.size() == 1);
   DeviceProfile servo = find_profile("grbl-servo");
-  CHECK(servo.pen_for_layer(5) == 1);  // one holder: M0 pauses instead
+  CHECK(servo.pen.count == 1);  // one holder: M0 pauses instead
   CHECK(servo.serial.rx_buffer_bytes == 128);
 }
 

@@ -1,0 +1,81 @@
+#include "firmware/job_compare.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <map>
+#include <tuple>
+
+namespace firmware {
+
+namespace {
+
+using Key = std::tuple<int, long, long, long, long>;
+
+Key key_of(const Mark& m) {
+  if (m.kind == Mark::Kind::Dot) return {1, m.a.x, m.a.y, m.a.x, m.a.y};
+  auto p = std::make_pair(m.a.x, m.a.y), q = std::make_pair(m.b.x, m.b.y);
+  if (q < p) std::swap(p, q);
+  return {0, p.first, p.second, q.first, q.second};
+}
+
+}  // namespace
+
+MarkComparison compare_marks(const std::vector<Mark>& expected, const std::vector<Mark>& drawn) {
+  MarkComparison c;
+  std::map<Key, std::pair<std::vector<const Mark*>, size_t>> m;  // expected marks, times drawn
+  for (const Mark& e : expected) {
+    (e.kind == Mark::Kind::Dot ? c.expected_dots : c.expected_segments)++;
+    m[key_of(e)].first.push_back(&e);
+  }
+  for (const Mark& d : drawn) {
+    if (d.kind == Mark::Kind::Partial) {
+      ++c.partial;
+      continue;
+    }
+    (d.kind == Mark::Kind::Dot ? c.drawn_dots : c.drawn_segments)++;
+    auto it = m.find(key_of(d));
+    if (it == m.end()) {
+      ++c.extra;
+      c.extra_marks.push_back(d);
+    } else {
+      ++it->second.second;
+    }
+  }
+  for (const auto& [k, v] : m) {
+    const size_t want = v.first.size(), got = v.second;
+    for (size_t i = got; i < want; ++i) c.lost_marks.push_back(*v.first[i]);
+    for (size_t i = want; i < got; ++i) c.doubled_marks.push_back(*v.first[0]);
+  }
+  c.lost = c.lost_marks.size();
+  c.doubled = c.doubled_marks.size();
+  return c;
+}
+
+std::string MarkComparison::summary() const {
+  char b[256];
+  std::snprintf(b, sizeof b,
+                "expected %zu segments + %zu dots, drawn %zu + %zu; lost %zu, doubled %zu, extra %zu, partial %zu",
+                expected_segments, expected_dots, drawn_segments, drawn_dots, lost, doubled, extra, partial);
+  return b;
+}
+
+JobCheck check_job(const std::string& gcode, const FirmwareRecord& r, const PenRule& rule,
+                   const std::vector<Steps>& offsets) {
+  JobCheck j;
+  j.firmware = interpret(r, rule, offsets);
+  j.marks = compare_marks(expected_marks(gcode, r.settings, rule), j.firmware.marks);
+  return j;
+}
+
+std::string describe(const Mark& m, const MachineSettings& s) {
+  char b[160];
+  const double kx = s.steps_per_mm[0], ky = s.steps_per_mm[1];
+  if (m.kind == Mark::Kind::Dot)
+    std::snprintf(b, sizeof b, "dot %.2f,%.2f mm", m.a.x / kx, m.a.y / ky);
+  else
+    std::snprintf(b, sizeof b, "%s %.2f,%.2f - %.2f,%.2f mm", m.kind == Mark::Kind::Partial ? "partial" : "segment",
+                  m.a.x / kx, m.a.y / ky, m.b.x / kx, m.b.y / ky);
+  return b;
+}
+
+}  // namespace firmware

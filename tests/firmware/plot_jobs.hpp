@@ -1,0 +1,107 @@
+#pragma once
+// Jobs for the firmware tests, made by today's stipplot CLI, and `stipplot plot` run
+// against the firmware's port: small enough that each plots in a few simulated seconds.
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "firmware/grbl_firmware.hpp"
+#include "firmware/job_compare.hpp"
+#include "test_util.hpp"
+
+namespace firmware::jobs {
+
+inline std::string example(const std::string& name) { return std::string(STIPPLOT_SOURCE_DIR) + "/examples/" + name; }
+
+inline nlohmann::json last_json(const std::string& out) {
+  auto end = out.find_last_not_of('\n');
+  if (end == std::string::npos) return {};
+  auto start = out.rfind('\n', end);
+  try {
+    const size_t from = start == std::string::npos ? 0 : start + 1;
+    return nlohmann::json::parse(out.substr(from, end + 1 - from));
+  } catch (const nlohmann::json::exception&) {
+    return {};
+  }
+}
+
+// A rectangle, a circle and a zigzag on a 40 x 30 mm page: 3 strokes, 64 G1 moves.
+inline std::string small_svg(const test::TempDir& t) {
+  std::string p = t.file("small.svg");
+  std::ofstream(p) << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"40mm\" height=\"30mm\" viewBox=\"0 0 40 30\">\n"
+                      "  <rect x=\"3\" y=\"3\" width=\"12\" height=\"10\" fill=\"none\" stroke=\"black\"/>\n"
+                      "  <circle cx=\"28\" cy=\"10\" r=\"6\" fill=\"none\" stroke=\"black\"/>\n"
+                      "  <polyline points=\"4,26 10,18 16,26 22,18 28,26 34,18\" fill=\"none\" stroke=\"black\"/>\n"
+                      "</svg>\n";
+  return p;
+}
+
+struct Job {
+  std::string path;
+  double estimate_s = 0;  // plan.total.seconds
+};
+
+// `stipplot export SVG --profile P -o OUT --json`.
+inline Job export_job(const std::string& svg, const std::string& profile, const std::string& out) {
+  auto r = test::run_cli("export " + svg + " --profile " + profile + " -o " + out + " --json");
+  if (r.exit_code != 0) throw std::runtime_error("stipplot export failed: " + r.err);
+  return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};
+}
+
+// `stipplot stipple examples/horse.png` on a small page: -a 80 -b 120 gives 9 dots.
+inline Job dots_job(const std::string& profile, const std::string& out,
+                    const std::string& extra = "--page 30x25mm --margin 2 -a 80 -b 120") {
+  auto r = test::run_cli("stipple " + example("horse.png") + " " + extra + " --profile " + profile + " -o " + out + " --json");
+  if (r.exit_code != 0) throw std::runtime_error("stipplot stipple failed: " + r.err);
+  return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};
+}
+
+inline Job tree_job(const std::string& profile, const std::string& out,
+                    const std::string& extra = "--page 40x30mm --margin 2 -a 25 -b 40") {
+  auto r = test::run_cli("tree " + example("horse.png") + " " + extra + " --profile " + profile + " -o " + out + " --json");
+  if (r.exit_code != 0) throw std::runtime_error("stipplot tree failed: " + r.err);
+  return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};
+}
+
+struct Plot {
+  test::RunResult run;
+  nlohmann::json summary;  // the --json summary line ({} if none)
+  bool completed() const { return run.exit_code == 0 && summary.value("completed", false); }
+};
+
+// `stipplot plot JOB --profile P --port PORT --json -q EXTRA` (or --resume JOB).
+inline Plot plot(const std::string& job, const std::string& profile, const std::string& port, const std::string& extra = "",
+                 bool resume = false) {
+  Plot p;
+  p.run = test::run_cli("plot " + std::string(resume ? "--resume " : "") + job + " --profile " + profile + " --port " + port +
+                        " --json -q " + extra);
+  p.summary = last_json(p.run.out);
+  return p;
+}
+
+// The job lines (grbl's filtered form) the firmware answered with "ok", in order.
+inline std::vector<std::string> client_lines_ok(const std::vector<HostLine>& lines) {
+  std::vector<std::string> out;
+  for (const HostLine& l : lines) {
+    std::string f = grbl_line_filter(l.text);
+    if (l.from_client && l.reply == HostLine::Reply::Ok && !f.empty() && f[0] != '$') out.push_back(f);
+  }
+  return out;
+}
+
+inline std::vector<std::string> job_lines(const std::string& gcode) {
+  std::vector<std::string> out;
+  for (const std::string& l : gcode_lines(gcode)) {
+    std::string f = grbl_line_filter(l);
+    if (!f.empty()) out.push_back(f);
+  }
+  return out;
+}
+
+inline size_t rx_drops(const FirmwareRecord& r) {
+  size_t n = 0;
+  for (const SessionRecord& s : r.sessions) n += s.block_log.rx_drops;
+  return n;
+}
+
+}  // namespace firmware::jobs
