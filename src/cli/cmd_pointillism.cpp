@@ -142,7 +142,7 @@ void register_pointillism(CLI::App& app) {
       ->group("Output");
   cmd->add_option("--fidelity-sigma", args->fidelity_sigma, "Blur for --fidelity in input px (0 = 2 x radius)")
       ->capture_default_str()->group("Output");
-  m->define([args] { resolve(*args); }, [args](const MethodInput& in) { return fixed_density([args, &in] { return draw(*args, in); }); });
+  m->define([args] { resolve(*args); }, [args](const MethodInput& in) { return thinned_density(in, [args, &in] { return draw(*args, in); }); });
 }
 
 }  // namespace stipplot::cli

@@ -1,6 +1,7 @@
 #include "cli/method_command.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include "cli/layout_options.hpp"
 #include "drivers/motion/plan_stats.hpp"
 #include "eval/fidelity.hpp"
+#include "layout/clip.hpp"
 #include "plan/planner.hpp"
 #include "preview/preview.hpp"
 #include "svg/svg_writer.hpp"
@@ -78,6 +80,77 @@ MethodDraft fixed_density(std::function<MethodResult()> draw) {
   MethodDraft d;
   d.predict = [](double) { return 0.0; };
   d.draw = [draw = std::move(draw)](double) { return draw(); };
+  return d;
+}
+
+namespace {
+template <class T>
+std::vector<T> thin_list(const std::vector<T>& v, double k) {
+  if (k >= 1) return v;
+  std::vector<T> out;
+  out.reserve(static_cast<size_t>(static_cast<double>(v.size()) * k) + 1);
+  // frac(i / phi) is equidistributed with low discrepancy: the kept marks are spread
+  // evenly over the list, so over the page too when the list runs across it.
+  constexpr double inv_phi = 0.6180339887498949;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const double u = static_cast<double>(i) * inv_phi;
+    if (u - std::floor(u) < k) out.push_back(v[i]);
+  }
+  return out;
+}
+
+// Ink a drawing lays, as a share of its page's area: pen width x stroke length, disc
+// areas. An estimate (overlaps count twice), for the result line.
+double ink_share(const Drawing& d) {
+  double ink = 0;
+  for (const Layer& l : d.layers) {
+    const double w = l.pen.width_mm;
+    for (const Polyline& pl : l.lines)
+      for (size_t i = 1; i < pl.pts.size(); ++i)
+        ink += w * std::hypot(pl.pts[i].x - pl.pts[i - 1].x, pl.pts[i].y - pl.pts[i - 1].y);
+    for (const Dot& dot : l.dots) ink += 0.25 * M_PI * std::max(dot.diameter, w) * std::max(dot.diameter, w);
+    for (const Circle& c : l.circles) ink += c.filled ? M_PI * c.r * c.r : 2 * M_PI * c.r * w;
+  }
+  const double area = d.page.width_mm * d.page.height_mm;
+  return area > 0 ? std::min(1.0, ink / area) : 0;
+}
+}  // namespace
+
+Drawing thin_marks(const Drawing& d, double k) {
+  Drawing out;
+  out.page = d.page;
+  for (const Layer& l : d.layers) {
+    Layer t;
+    t.pen = l.pen;
+    t.dots = thin_list(l.dots, k);
+    t.lines = thin_list(l.lines, k);
+    t.circles = thin_list(l.circles, k);
+    t.areas = thin_list(l.areas, k);
+    if (t.primitive_count() > 0) out.layers.push_back(std::move(t));
+  }
+  return out;
+}
+
+MethodDraft thinned_density(const MethodInput& in, std::function<MethodResult()> draw) {
+  auto full = std::make_shared<MethodResult>(draw());
+  const budget::MarkCosts& c = in.costs;
+  const double full_s = budget::quick_estimate_seconds(full->drawing, c.motion(), c.plan_options());
+  MethodDraft d;
+  d.predict = [full_s](double k) { return k * full_s; };
+  d.draw = [full](double k) {
+    if (k >= 1) return *full;
+    MethodResult r = *full;
+    r.drawing = thin_marks(full->drawing, k);
+    // The method's own preview shows every mark: the pen-true render of the plan shows
+    // what is kept.
+    r.render_preview = nullptr;
+    const size_t n = r.drawing.primitive_count();
+    r.counts = std::to_string(n) + " of " + std::to_string(full->drawing.primitive_count()) + " marks (" + r.counts + ")";
+    r.summary["marks_kept"] = n;
+    return r;
+  };
+  d.tone_share = [](double k) { return k; };
+  d.ink_needed = ink_share(full->drawing);
   return d;
 }
 
@@ -247,6 +320,10 @@ void MethodCommand::run() const {
   const budget::SearchOutcome so = budget::choose_density(so_opt, draft.predict, run_at, draft.calibrate);
   MethodResult r = std::move(runs.at(so.knob));
   runs.clear();
+  // Every mark inside the image's rectangle on the page: strokes shaped near the border
+  // must not run past it, nor off a page with no margin.
+  const Vec2 img_lo = tf.map(0, 0), img_hi = tf.map(image.width, image.height);
+  const layout::ClipCounts clipped = layout::clip_to_rect(r.drawing, Rect{img_lo.x, img_lo.y, img_hi.x, img_hi.y});
   const double method_s = seconds_since(t1);
 
   // The plan of the method's page: what the preview and the measures render, and the
@@ -258,6 +335,7 @@ void MethodCommand::run() const {
   s["command"] = name_;
   s["input"] = a.input;
   s["image_px"] = {image.width, image.height};
+  s["clipped_at_image_edge"] = clipped.total();
   s["profile"] = prof.name;
   s["plan"] = to_json(stats);
   s["seconds_plan"] = seconds_since(t2);

@@ -75,6 +75,16 @@ struct MethodDraft {
 // A method whose drawing does not depend on the budget: one run, whatever --time says.
 MethodDraft fixed_density(std::function<MethodResult()> draw);
 
+// A method whose marks each lay a little of the tone (sketch strokes, pointillism
+// circles): one run at its full density, then at k < 1 each layer keeps the share k of
+// its marks, picked by a golden-ratio sequence over their order so the thinning is even
+// and the tone fades evenly. The plot time of the full run, scaled by k, predicts the
+// rest. Costs one run of the method, its quick estimate, and O(marks) a thinning.
+MethodDraft thinned_density(const MethodInput& in, std::function<MethodResult()> draw);
+
+// The drawing with the share k of every layer's marks of each kind (see thinned_density).
+Drawing thin_marks(const Drawing& d, double k);
+
 // What a method's measurement sees and adds to.
 class MethodRun {
  public:
