@@ -78,17 +78,17 @@ MethodResult draw(PointillismArgs& a, const MethodInput& in) {
   s["regions"] = regions_summary(*res);
   // Exact colours are opaque paint, one dot covering what is under it; pens are
   // translucent ink that darkens what it crosses.
-  out.ink_multiplies = pens;
+  out.screen_colours = !pens;
   out.images["--regions-png"] = [res] { return pointillism::region_image(*res); };
   if (a.fidelity) {
     const double sigma = a.fidelity_sigma > 0 ? a.fidelity_sigma : 2 * a.p.radius_px;
     out.measure = [sigma, pens](MethodRun& run) {
-      const double de = mean_delta_e00_blurred(run.input, run.drawing_over_image(pens), sigma);
+      const double de = mean_delta_e00_blurred(run.input, run.render_over_image(), sigma);
       run.summary["mean_de00"] = de;
       // With pens, also as if the inks were opaque: the palette's error alone, without
       // the darkening of translucent ink where circles overlap.
       if (pens)
-        run.summary["mean_de00_opaque"] = mean_delta_e00_blurred(run.input, run.drawing_over_image(false), sigma);
+        run.summary["mean_de00_opaque"] = mean_delta_e00_blurred(run.input, run.render_over_image(true), sigma);
       run.summary["fidelity_sigma_px"] = sigma;
       run.note("mean dE00", de);
     };
@@ -142,7 +142,7 @@ void register_pointillism(CLI::App& app) {
       ->group("Output");
   cmd->add_option("--fidelity-sigma", args->fidelity_sigma, "Blur for --fidelity in input px (0 = 2 x radius)")
       ->capture_default_str()->group("Output");
-  m->define([args] { resolve(*args); }, [args](const MethodInput& in) { return draw(*args, in); });
+  m->define([args] { resolve(*args); }, [args](const MethodInput& in) { return thinned_density(in, [args, &in] { return draw(*args, in); }); });
 }
 
 }  // namespace stipplot::cli

@@ -140,7 +140,7 @@ void register_sketch(CLI::App& app) {
         args->space_given = space_opt->count() > 0;
         resolve(*args);
       },
-      [args](const MethodInput& in) { return draw(*args, in); });
+      [args](const MethodInput& in) { return thinned_density(in, [args, &in] { return draw(*args, in); }); });
 }
 
 }  // namespace stipplot::cli

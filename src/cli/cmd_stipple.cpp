@@ -1,9 +1,13 @@
-// stipplot stipple: grayscale-order Poisson disk stippling (seed 000).
+// stipplot stipple: grayscale-order Poisson disk stippling (seed 000), on the page for
+// tone, with the density chosen for the plot-time budget.
+#include <cmath>
+#include <map>
 #include <memory>
 
 #include "cli/commands.hpp"
 #include "cli/method_command.hpp"
 #include "methods/stipple/stipple.hpp"
+#include "util/error.hpp"
 #include "util/progress.hpp"
 
 namespace stipplot::cli {
@@ -11,7 +15,201 @@ namespace stipplot::cli {
 namespace {
 struct StippleArgs {
   std::string method = "gray";
-  StippleParams p;
+  std::string law = "tone";
+  bool law_given = false, linear_given = false;  // -a ... --b-w ask for the linear law
+  std::string max_dot;  // empty: chosen by the budget
+  std::string a = "3px", b = "15px", a_b = "3px", b_b = "15px", a_w = "3px", b_w = "15px";
+  uint64_t seed = 1;
+  StippleMethod m = StippleMethod::Gray;
+  PageStipple page;
+  double max_dot_mm = 0;  // 0 = the budget's
+};
+
+void resolve(StippleArgs& a) {
+  a.m = parse_stipple_method(a.method);
+  a.page.law = parse_stipple_law(a.law);
+  if (a.linear_given && !a.law_given) a.page.law = StippleLaw::Linear;
+  if (a.linear_given && a.page.law == StippleLaw::Tone)
+    throw UserError("-a, -b, --a-b, --b-b, --a-w and --b-w belong to --law linear, not --law tone");
+  a.page.a = Length::parse(a.a, "-a");
+  a.page.b = Length::parse(a.b, "-b");
+  a.page.a_b = Length::parse(a.a_b, "--a-b");
+  a.page.b_b = Length::parse(a.b_b, "--b-b");
+  a.page.a_w = Length::parse(a.a_w, "--a-w");
+  a.page.b_w = Length::parse(a.b_w, "--b-w");
+  a.max_dot_mm = a.max_dot.empty() ? 0 : parse_paper_mm(a.max_dot, "--max-dot");
+  if (!a.max_dot.empty()) require_range("--max-dot", a.max_dot_mm, 0.01, 100);
+  a.page.validate();
+}
+
+// The knob: for the tone law, k in [0, 1/2] lays the share 2k of the tone with the
+// largest dots; k in [1/2, 1] lays all of it with the largest dot shrinking
+// geometrically from the cap to one pen touch (finer, more dots, more time). For the
+// linear law it spreads the paper's radii by up to 20x (k = 1: as given).
+class StippleDraft {
+ public:
+  StippleDraft(const StippleArgs& a, const MethodInput& in) : a_(a), in_(in) {
+    tf_ = in.placement.transform(in.image.width, in.image.height);
+    pen_ = in.placement.pen_width_mm;
+    const double w = in.image.width * tf_.mm_per_px(), h = in.image.height * tf_.mm_per_px();
+    // The largest dot: a fortieth of the drawing's short side (a 190 mm wide A4 drawing:
+    // 4.75 mm), between four pen widths and 8 mm, or --max-dot.
+    if (a.page.law == StippleLaw::Tone && in.placement.dot_size.value > 0)
+      throw UserError("--dot-size belongs to --law linear: the tone law sizes its dots for the tone (--max-dot caps them)");
+    dot_cap_ = a.max_dot_mm > 0 ? std::max(a.max_dot_mm, pen_) : std::clamp(std::min(w, h) / 40, 4 * pen_, 8.0);
+    // Statistics on a grid at half the pen: the area of each level of each pass.
+    reference_ = std::make_shared<StippleCanvas>(prepare_stipple(in.image, a.m, in.placement, pen_ / 2));
+    const double cell_area = reference_->grid.cell_mm * reference_->grid.cell_mm;
+    area_mm2_ = static_cast<double>(reference_->grid.image.pixels()) * cell_area;
+    for (const auto& pass : reference_->passes) {
+      std::array<double, 256> area{};
+      for (uint8_t v : reference_->planes[pass.plane]) area[v] += cell_area;
+      double ink = 0;
+      for (int v = 0; v < 256; ++v) ink += area[static_cast<size_t>(v)] * pass_tone(pass.ink, v);
+      ink_needed_ += ink / area_mm2_;
+      level_area_.push_back(area);
+    }
+    curves_.assign(reference_->passes.size(), CoverageCurve{});
+  }
+
+  PageStipple law_at(double k) const {
+    PageStipple law = a_.page;
+    if (law.law == StippleLaw::Linear) {
+      law.spread = std::pow(20.0, 1 - k);
+      return law;
+    }
+    law.fade = std::min(1.0, 2 * k);
+    law.pass_curve = curves_;
+    law.max_dot_mm = k <= 0.5 ? dot_cap_ : dot_cap_ * std::pow(pen_ / dot_cap_, (k - 0.5) / 0.5);
+    if (a_.max_dot_mm > 0) law.max_dot_mm = dot_cap_;
+    return law;
+  }
+
+  // Grid cells a quarter of the smallest spacing (so the grid's granularity does not
+  // pack the dots differently), between an eighth and a half of the pen.
+  double cell_at(double k) const {
+    const PageStipple law = law_at(k);
+    double r_min = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < reference_->passes.size(); ++i) {
+      const LevelDots ld = level_dots(*reference_, i, law, tf_.mm_per_px());
+      r_min = std::min(r_min, ld.radius.min() * reference_->grid.cell_mm);
+    }
+    if (!std::isfinite(r_min)) return pen_ / 2;
+    return std::clamp(r_min / 4, pen_ / 8, pen_ / 2);
+  }
+
+  double predict(double k) const {
+    const PageStipple law = law_at(k);
+    const double cell = cell_at(k);
+    double t = 0;
+    for (size_t i = 0; i < reference_->passes.size(); ++i)
+      t += count_factor_ * pass_cost(i, law, cell).seconds + in_.costs.motion().pen_change_s;
+    return t;
+  }
+
+  // The pilot: the drawing at k on a grid of twice the cell (a quarter of the cells).
+  // What its dots cover at each grey level, against what the law asked for, gives each
+  // pass a tone reproduction curve for this photo (grayscale order packs the dots of a
+  // gradient closer than the uniform patterns the law was measured on, dots shrink
+  // beside highlights, the darkest tones saturate); its dot count against the law's
+  // corrects the time prediction.
+  void calibrate(double k) {
+    if (a_.page.law != StippleLaw::Tone) return;
+    const PageStipple law = law_at(k);
+    const double cell = std::min(2 * cell_at(k), pen_);
+    const StippleCanvas pilot = prepare_stipple(in_.image, a_.m, in_.placement, cell);
+    const Drawing d = stipple_on_page(pilot, law, tf_.mm_per_px(), a_.seed);
+    const bool per_pass = d.layers.size() == pilot.passes.size();
+    double drawn = 0, expected = 0;
+    for (const auto& l : d.layers) drawn += static_cast<double>(l.dots.size());
+    for (size_t i = 0; i < pilot.passes.size(); ++i) expected += pass_cost(i, law, pilot.grid.cell_mm).dots;
+    if (expected >= 20) count_factor_ = std::clamp(drawn / expected, 0.5, 3.0);
+    if (!per_pass) return;  // colour's 26 layers mix the passes: no curve
+    const std::vector<LevelCoverage> got = measured_coverage(pilot, d);
+    for (size_t i = 0; i < pilot.passes.size(); ++i) {
+      std::vector<double> asked(256), share(256), weight(256);
+      for (int v = 0; v < 256; ++v) {
+        asked[static_cast<size_t>(v)] = law.fade * pass_tone(pilot.passes[i].ink, v);
+        weight[static_cast<size_t>(v)] = got[i].cells[static_cast<size_t>(v)];
+        share[static_cast<size_t>(v)] = weight[static_cast<size_t>(v)] > 0 ? got[i].covered[static_cast<size_t>(v)] / weight[static_cast<size_t>(v)] : 0;
+      }
+      curves_[i] = fit_curve(asked, share, weight);
+    }
+  }
+
+  MethodResult draw(double k) {
+    const PageStipple law = law_at(k);
+    const double cell = cell_at(k);
+    auto it = canvases_.find(cell);
+    if (it == canvases_.end())
+      it = canvases_.emplace(cell, std::make_shared<StippleCanvas>(prepare_stipple(in_.image, a_.m, in_.placement, cell))).first;
+    const StippleCanvas& canvas = *it->second;
+    Progress bar("stippling", 1000, canvas.grid.image.pixels() >= 4'000'000 && in_.show_progress);
+    MethodResult r;
+    r.drawing = stipple_on_page(canvas, law, tf_.mm_per_px(), a_.seed,
+                                [&](double f) { bar.update(static_cast<uint64_t>(f * 1000)); });
+    bar.finish();
+    r.screen_colours = a_.m == StippleMethod::Color;
+    size_t dots = 0;
+    double dmin = std::numeric_limits<double>::infinity(), dmax = 0;
+    for (const auto& l : r.drawing.layers)
+      for (const auto& d : l.dots) ++dots, dmin = std::min(dmin, d.diameter), dmax = std::max(dmax, d.diameter);
+    r.summary["method"] = to_string(a_.m);
+    r.summary["law"] = law.law == StippleLaw::Tone ? "tone" : "linear";
+    r.summary["cell_mm"] = canvas.grid.cell_mm;
+    r.summary["grid"] = {canvas.grid.image.width, canvas.grid.image.height};
+    if (law.law == StippleLaw::Tone) {
+      r.summary["max_dot_mm"] = law.max_dot_mm;
+      r.summary["fade"] = law.fade;
+    } else {
+      r.summary["spread"] = law.spread;
+    }
+    r.summary["dots"] = dots;
+    std::ostringstream c;
+    c.setf(std::ios::fixed);
+    c.precision(2);
+    c << dots << " dots";
+    if (dots) c << " (" << dmin << "-" << dmax << " mm)";
+    c << " in " << layers_phrase(r.drawing.layers.size()) << " (" << to_string(a_.m) << ", " << pixel_size(in_.image) << ")";
+    r.counts = c.str();
+    return r;
+  }
+
+  // Expected dots of pass i under `law` on a grid of `cell` mm, their ink and plot seconds:
+  // per level, area x density / spacing^2 dots, each a pen cycle, its fill and a hop of
+  // about 1.1 spacings (a greedy tour's step between neighbours).
+  struct PassCost {
+    double dots = 0, seconds = 0, ink = 0;  // ink: the dots' summed areas, mm^2
+  };
+  PassCost pass_cost(size_t i, const PageStipple& law, double cell) const {
+    const budget::MarkCosts& c = in_.costs;
+    const LevelDots ld = level_dots(*reference_, i, law, tf_.mm_per_px());
+    PassCost pc;
+    for (int v = 0; v < 256; ++v) {
+      const double area = level_area_[i][static_cast<size_t>(v)];
+      if (ld.radius.none(static_cast<uint8_t>(v)) || area == 0) continue;
+      const double r_mm = ld.radius.r[v] * reference_->grid.cell_mm;
+      const double dots = area * pattern_density(r_mm / cell) / (r_mm * r_mm);
+      pc.dots += dots;
+      pc.ink += dots * M_PI / 4 * ld.diameter_mm[static_cast<size_t>(v)] * ld.diameter_mm[static_cast<size_t>(v)];
+      pc.seconds += dots * (c.pen_cycle_s() + c.disc_s(ld.diameter_mm[static_cast<size_t>(v)], pen_) + c.travel_s(1.1 * r_mm));
+    }
+    return pc;
+  }
+
+  double tone_share(double k) const { return a_.page.law == StippleLaw::Tone ? std::min(1.0, 2 * k) : 1.0; }
+  double ink_needed() const { return ink_needed_; }
+
+ private:
+  const StippleArgs& a_;
+  const MethodInput& in_;
+  PageTransform tf_;
+  double pen_ = 0.3, dot_cap_ = 1, area_mm2_ = 0, ink_needed_ = 0;
+  std::shared_ptr<StippleCanvas> reference_;
+  std::vector<std::array<double, 256>> level_area_;
+  std::vector<CoverageCurve> curves_;  // per pass: the pilot's tone reproduction curve
+  double count_factor_ = 1;            // the pilot's dots / the law's
+  std::map<double, std::shared_ptr<StippleCanvas>> canvases_;
 };
 }  // namespace
 
@@ -22,34 +220,46 @@ void register_stipple(CLI::App& app) {
       "Methods: gray (dark pixels first; the paper's method), random (random order, for comparison),\n"
       "negative (white dots on black), binary (black and white dots on grey paper),\n"
       "color (binary per R, G, B: the paper's 27-colour screen result), cmyk (ink separation for plotting).\n"
-      "Example: stipplot stipple photo.jpg -o photo.svg --preview photo.png --method gray -a 3 -b 15");
+      "Laws: tone (default: dots sized and spaced on the page so the ink lays the photo's tones, as\n"
+      "dense as --time allows), linear (the paper's r = a + b d/255; -a/-b in mm or input px, 3px).\n"
+      "Example: stipplot stipple photo.jpg -o photo.svg --preview photo.png --time 45min\n"
+      "         stipplot stipple photo.jpg -o photo.svg --law linear -a 3px -b 15px");
   CLI::App* cmd = m->cli();
   const char* g = "Stippling";
   cmd->add_option("-m,--method", args->method, "random|gray|negative|binary|color|cmyk")->capture_default_str();
-  cmd->add_option("-a", args->p.a, "Radius offset a in pixels: r = a + b*d/255")->capture_default_str()->group(g);
-  cmd->add_option("-b", args->p.b, "Radius slope b in pixels")->capture_default_str()->group(g);
-  cmd->add_option("--a-b", args->p.a_b, "Binary/colour: black dot radius offset")->capture_default_str()->group(g);
-  cmd->add_option("--b-b", args->p.b_b, "Binary/colour: black dot radius slope")->capture_default_str()->group(g);
-  cmd->add_option("--a-w", args->p.a_w, "Binary/colour: white dot radius offset")->capture_default_str()->group(g);
-  cmd->add_option("--b-w", args->p.b_w, "Binary/colour: white dot radius slope")->capture_default_str()->group(g);
-  cmd->add_option("--seed", args->p.seed, "Random seed; the same seed gives the same drawing")->capture_default_str()->group(g);
+  auto* law = cmd->add_option("--law", args->law,
+                              "tone (dots for the photo's tones on paper) or linear (the paper's r = a + b d/255; "
+                              "implied by -a, -b, ...)")
+                  ->capture_default_str()->group(g);
+  cmd->add_option("--max-dot", args->max_dot, "Tone: the largest dot (mm, cm, in, pt); default: chosen for --time")
+      ->group(g);
+  std::vector<CLI::Option*> linear = {
+      cmd->add_option("-a", args->a, "Linear: radius offset a, mm or input px (3px): r = a + b*d/255")->capture_default_str()->group(g),
+      cmd->add_option("-b", args->b, "Linear: radius slope b, mm or input px")->capture_default_str()->group(g),
+      cmd->add_option("--a-b", args->a_b, "Linear, binary/colour: black dot radius offset")->capture_default_str()->group(g),
+      cmd->add_option("--b-b", args->b_b, "Linear, binary/colour: black dot radius slope")->capture_default_str()->group(g),
+      cmd->add_option("--a-w", args->a_w, "Linear, binary/colour: white dot radius offset")->capture_default_str()->group(g),
+      cmd->add_option("--b-w", args->b_w, "Linear, binary/colour: white dot radius slope")->capture_default_str()->group(g)};
+  cmd->add_option("--relax", args->page.relax,
+                  "Tone: Lloyd iterations that even the dots' spacing (weighted Voronoi, as StippleGen); 0 = as sampled")
+      ->capture_default_str()->group(g);
+  cmd->add_option("--seed", args->seed, "Random seed; the same seed gives the same drawing")->capture_default_str()->group(g);
   m->define(
-      [args] {
-        args->p.method = parse_stipple_method(args->method);
-        args->p.validate();
+      [args, law, linear] {
+        args->law_given = law->count() > 0;
+        args->linear_given = std::any_of(linear.begin(), linear.end(), [](CLI::Option* o) { return o->count() > 0; });
+        resolve(*args);
       },
-      [args](const MethodInput& in) {
-        const StippleParams& p = args->p;
-        // A bar only where it helps: big images on a terminal.
-        Progress bar("stippling", 1000, in.image.pixels() >= 4'000'000 && in.show_progress);
-        MethodResult r;
-        r.drawing = stipple(in.image, p, in.placement, [&](double f) { bar.update(static_cast<uint64_t>(f * 1000)); });
-        bar.finish();
-        r.summary["method"] = to_string(p.method);
-        r.counts = std::to_string(r.drawing.primitive_count()) + " dots in " + layers_phrase(r.drawing.layers.size()) +
-                   " (" + to_string(p.method) + ", " + pixel_size(in.image) + ")";
-        return r;
-      });
+            [args](const MethodInput& in) {
+              auto d = std::make_shared<StippleDraft>(*args, in);
+              MethodDraft draft;
+              draft.predict = [d](double k) { return d->predict(k); };
+              draft.draw = [d](double k) { return d->draw(k); };
+              draft.calibrate = [d](double k) { d->calibrate(k); };
+              draft.tone_share = [d](double k) { return d->tone_share(k); };
+              draft.ink_needed = d->ink_needed();
+              return draft;
+            });
 }
 
 }  // namespace stipplot::cli

@@ -79,7 +79,7 @@ void register_tree(CLI::App& app) {
         args->p.validate();
         args->t.validate();
       },
-      [args](const MethodInput& in) {
+      [args](const MethodInput& in) { return fixed_density([args, &in] {
         const tree::TreeParams& p = args->p;
         auto r = std::make_shared<tree::TreeResult>(tree::tree_pixels(in.image, p));
         MethodResult out;
@@ -90,7 +90,7 @@ void register_tree(CLI::App& app) {
                      " segments in " + layers_phrase(out.drawing.layers.size()) + " (" + p.variant.name + ", " +
                      pixel_size(in.image) + ")";
         return out;
-      });
+      }); });
 }
 
 }  // namespace stipplot::cli

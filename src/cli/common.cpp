@@ -92,35 +92,46 @@ void check_profile_for(OutputKind kind, const std::string& path, const std::stri
     throw UserError("-o " + path + ": profile " + prof.name + " speaks G-code; write .gcode or use an HPGL profile");
 }
 
-void write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
-                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary) {
-  const OutputKind kind = output_kind(path);
-  DeviceProfile prof = find_profile(profile);
-  check_profile_for(kind, path, profile);
+PlanOptions plan_options_for(const DeviceProfile& profile, const Page& page, const PlanArgs& plan_args) {
   PlanOptions po = plan_args.resolve();
-  // The pen starts at machine zero: plan from there (in page coordinates).
-  po.origin = MachineTransform(prof, d.page).page_position_of_machine_zero();
-  auto t0 = std::chrono::steady_clock::now();
-  PlanInfo plan_info;
-  Plan plan = plan_drawing(d, po, &plan_info);
-  double plan_s = seconds_since(t0);
-  auto t1 = std::chrono::steady_clock::now();
-  JobEstimate timed(prof);  // the written lines' own time, not the plan's
+  po.origin = MachineTransform(profile, page).page_position_of_machine_zero();
+  return po;
+}
+
+void write_plan_file(const Plan& plan, const std::string& path, const DeviceProfile& profile, bool show_travel,
+                     nlohmann::json* plan_summary) {
+  const OutputKind kind = output_kind(path);
+  JobEstimate timed(profile);  // the written lines' own time, not the plan's
   if (kind == OutputKind::gcode) {
-    write_gcode_file(plan, prof, path, timed.gcode_options());
+    write_gcode_file(plan, profile, path, timed.gcode_options());
+    if (plan_summary) timed.apply(*plan_summary);
   } else if (kind == OutputKind::hpgl) {
-    write_hpgl_file(plan, prof, path, timed.hpgl_options());
+    write_hpgl_file(plan, profile, path, timed.hpgl_options());
+    if (plan_summary) timed.apply(*plan_summary);
   } else {
     // the planned order is only checked against the device when it goes to one
     PlannedSvgOptions so;
     so.show_travel = show_travel;
     write_planned_svg(plan, path, so);
   }
+}
+
+void write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
+                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary) {
+  const OutputKind kind = output_kind(path);
+  DeviceProfile prof = find_profile(profile);
+  check_profile_for(kind, path, profile);
+  const PlanOptions po = plan_options_for(prof, d.page, plan_args);
+  auto t0 = std::chrono::steady_clock::now();
+  PlanInfo plan_info;
+  Plan plan = plan_drawing(d, po, &plan_info);
+  double plan_s = seconds_since(t0);
+  auto t1 = std::chrono::steady_clock::now();
   summary["output"] = path;
   summary["profile"] = prof.name;
   // A G-code job ends with the pen back at machine zero, an HPGL job where it stops.
   summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin, kind == OutputKind::gcode));
-  if (kind != OutputKind::svg) timed.apply(summary["plan"]);
+  write_plan_file(plan, path, prof, show_travel, &summary["plan"]);
   summary["seconds_plan"] = plan_s;
   // Only a tripped --optimize-seconds cap makes the plan depend on the machine's speed.
   summary["plan_capped"] = plan_info.budget_hit;

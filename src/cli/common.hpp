@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli/plan_options.hpp"
+#include "drivers/device/profile.hpp"
 #include "geometry/drawing.hpp"
 #include "methods/placement.hpp"
 
@@ -55,6 +56,15 @@ void check_profile_for(OutputKind kind, const std::string& path, const std::stri
 // (pen-down/up length, lifts, estimated time) and the timings to `summary`.
 void write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
                           const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary);
+
+// The planner's options for a profile: the pen starts at machine zero, so planning
+// starts from there (in page coordinates).
+PlanOptions plan_options_for(const DeviceProfile& profile, const Page& page, const PlanArgs& plan_args);
+// Writes an already planned drawing as G-code, HPGL or the planned SVG by the extension
+// of `path`, atomically.
+// plan_summary, when given, gets the written job's own timed seconds (G-code and HPGL).
+void write_plan_file(const Plan& plan, const std::string& path, const DeviceProfile& profile, bool show_travel,
+                     nlohmann::json* plan_summary = nullptr);
 
 // "1 layer", "3 layers".
 std::string layers_phrase(size_t n);

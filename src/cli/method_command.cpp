@@ -1,11 +1,18 @@
 #include "cli/method_command.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <map>
 #include <optional>
 #include <sstream>
 
+#include "budget/density_search.hpp"
+#include "budget/duration.hpp"
 #include "cli/layout_options.hpp"
+#include "drivers/motion/plan_stats.hpp"
 #include "eval/fidelity.hpp"
+#include "layout/clip.hpp"
+#include "plan/planner.hpp"
 #include "preview/preview.hpp"
 #include "svg/svg_writer.hpp"
 #include "util/atomic_file.hpp"
@@ -15,8 +22,9 @@ namespace stipplot::cli {
 
 struct MethodCommand::Args {
   std::string input, output, preview;
-  std::string profile = "grbl-servo";  // for .gcode/.hpgl outputs
-  PlanArgs plan;                       // for .gcode/.hpgl outputs
+  std::string profile = "grbl-servo";  // the plotter: its time model sets the budget, its writer .gcode/.hpgl
+  PlanArgs plan;
+  std::string time = "1h";             // the plot-time budget on the profile
   LayoutArgs layout;                   // for outputs to a device, or when asked
   CLI::Option* profile_option = nullptr;
   CLI::Option* page_option = nullptr;
@@ -26,9 +34,20 @@ struct MethodCommand::Args {
   ReportArgs report;
 };
 
-MethodRun::MethodRun(const Image& in, const PageTransform& tf, const MethodResult& r, double preview_dpi,
-                     nlohmann::json& s)
-    : input(in), transform(tf), result(r), summary(s), preview_dpi_(preview_dpi) {}
+MethodRun::MethodRun(const Image& in, const PageTransform& tf, const MethodResult& r, const Plan& p,
+                     double preview_dpi, nlohmann::json& s)
+    : input(in), transform(tf), result(r), plan(p), summary(s), preview_dpi_(preview_dpi) {}
+
+namespace {
+// The one render of what will be drawn: the plan with real pens, or the drawing's
+// primitives in their screen colours.
+Image render_result(const MethodResult& r, const Plan& plan, double dpi, bool opaque) {
+  PreviewOptions po;
+  po.dpi = dpi;
+  po.ink_multiplies = !opaque && !r.screen_colours;
+  return r.screen_colours ? render_preview(r.drawing, po) : render_plan(plan, po);
+}
+}  // namespace
 
 void MethodRun::note(const std::string& label, double value) {
   std::ostringstream os;
@@ -43,10 +62,7 @@ const Image& MethodRun::preview_page() {
     if (result.render_preview) {
       preview_ = std::make_unique<Image>(result.render_preview(preview_dpi_));
     } else {
-      PreviewOptions po;
-      po.dpi = preview_dpi_;
-      po.ink_multiplies = result.ink_multiplies;
-      preview_ = std::make_unique<Image>(render_preview(result.drawing, po));
+      preview_ = std::make_unique<Image>(render_result(result, plan, preview_dpi_, false));
     }
   }
   return *preview_;
@@ -54,11 +70,88 @@ const Image& MethodRun::preview_page() {
 
 Image MethodRun::preview_over_image() { return crop_to_image(preview_page(), transform, input.width, input.height); }
 
-Image MethodRun::drawing_over_image(bool ink_multiplies) const {
-  PreviewOptions po;
-  po.dpi = std::clamp(25.4 / transform.mm_per_px(), 10.0, 2400.0);
-  po.ink_multiplies = ink_multiplies;
-  return crop_to_image(render_preview(result.drawing, po), transform, input.width, input.height);
+Image MethodRun::render_over_image(bool opaque) const {
+  // Pens of a few tenths of a millimetre need some pixels across to be measured right.
+  const double dpi = std::clamp(25.4 / transform.mm_per_px(), 150.0, 1200.0);
+  return crop_to_image(render_result(result, plan, dpi, opaque), transform, input.width, input.height);
+}
+
+MethodDraft fixed_density(std::function<MethodResult()> draw) {
+  MethodDraft d;
+  d.predict = [](double) { return 0.0; };
+  d.draw = [draw = std::move(draw)](double) { return draw(); };
+  return d;
+}
+
+namespace {
+template <class T>
+std::vector<T> thin_list(const std::vector<T>& v, double k) {
+  if (k >= 1) return v;
+  std::vector<T> out;
+  out.reserve(static_cast<size_t>(static_cast<double>(v.size()) * k) + 1);
+  // frac(i / phi) is equidistributed with low discrepancy: the kept marks are spread
+  // evenly over the list, so over the page too when the list runs across it.
+  constexpr double inv_phi = 0.6180339887498949;
+  for (size_t i = 0; i < v.size(); ++i) {
+    const double u = static_cast<double>(i) * inv_phi;
+    if (u - std::floor(u) < k) out.push_back(v[i]);
+  }
+  return out;
+}
+
+// Ink a drawing lays, as a share of its page's area: pen width x stroke length, disc
+// areas. An estimate (overlaps count twice), for the result line.
+double ink_share(const Drawing& d) {
+  double ink = 0;
+  for (const Layer& l : d.layers) {
+    const double w = l.pen.width_mm;
+    for (const Polyline& pl : l.lines)
+      for (size_t i = 1; i < pl.pts.size(); ++i)
+        ink += w * std::hypot(pl.pts[i].x - pl.pts[i - 1].x, pl.pts[i].y - pl.pts[i - 1].y);
+    for (const Dot& dot : l.dots) ink += 0.25 * M_PI * std::max(dot.diameter, w) * std::max(dot.diameter, w);
+    for (const Circle& c : l.circles) ink += c.filled ? M_PI * c.r * c.r : 2 * M_PI * c.r * w;
+  }
+  const double area = d.page.width_mm * d.page.height_mm;
+  return area > 0 ? std::min(1.0, ink / area) : 0;
+}
+}  // namespace
+
+Drawing thin_marks(const Drawing& d, double k) {
+  Drawing out;
+  out.page = d.page;
+  for (const Layer& l : d.layers) {
+    Layer t;
+    t.pen = l.pen;
+    t.dots = thin_list(l.dots, k);
+    t.lines = thin_list(l.lines, k);
+    t.circles = thin_list(l.circles, k);
+    t.areas = thin_list(l.areas, k);
+    if (t.primitive_count() > 0) out.layers.push_back(std::move(t));
+  }
+  return out;
+}
+
+MethodDraft thinned_density(const MethodInput& in, std::function<MethodResult()> draw) {
+  auto full = std::make_shared<MethodResult>(draw());
+  const budget::MarkCosts& c = in.costs;
+  const double full_s = budget::quick_estimate_seconds(full->drawing, c.motion(), c.plan_options());
+  MethodDraft d;
+  d.predict = [full_s](double k) { return k * full_s; };
+  d.draw = [full](double k) {
+    if (k >= 1) return *full;
+    MethodResult r = *full;
+    r.drawing = thin_marks(full->drawing, k);
+    // The method's own preview shows every mark: the pen-true render of the plan shows
+    // what is kept.
+    r.render_preview = nullptr;
+    const size_t n = r.drawing.primitive_count();
+    r.counts = std::to_string(n) + " of " + std::to_string(full->drawing.primitive_count()) + " marks (" + r.counts + ")";
+    r.summary["marks_kept"] = n;
+    return r;
+  };
+  d.tone_share = [](double k) { return k; };
+  d.ink_needed = ink_share(full->drawing);
+  return d;
 }
 
 std::string pixel_size(const Image& image) {
@@ -79,8 +172,13 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
       ->required()->group("Output");
   a.profile_option =
       cmd->add_option("--profile", a.profile,
-                      "Device profile NAME or PATH for .gcode/.hpgl, whose sheet is the default page (see `stipplot profiles`)")
+                      "Device profile NAME or PATH (see `stipplot profiles`): the plotter the --time budget is for, "
+                      "the writer of .gcode/.hpgl, whose sheet is the default page when named or written for")
           ->capture_default_str()->group("Output");
+  cmd->add_option("--time", a.time,
+                  "Plot-time budget on --profile (45min, 1h, 1.5h, 1h30min): the density is chosen so the planned "
+                  "plot fits it")
+      ->capture_default_str()->group("Output");
   add_plan_options(cmd, a.plan);
   add_layout_options(cmd, a.layout, false);
   cmd->add_option("--preview", a.preview, "Also write a preview PNG of what the pens will draw")->group("Output");
@@ -102,16 +200,18 @@ void MethodCommand::add_png_output(const std::string& option, const std::string&
   cmd_->add_option(option, pngs_.back()->path, help)->group("Output");
 }
 
-void MethodCommand::define(std::function<void()> check, std::function<MethodResult(const MethodInput&)> draw) {
+void MethodCommand::define(std::function<void()> check, std::function<MethodDraft(const MethodInput&)> prepare) {
   check_ = std::move(check);
-  draw_ = std::move(draw);
+  prepare_ = std::move(prepare);
 }
 
 void MethodCommand::check_outputs() const {
   const Args& a = *args_;
   const OutputKind kind = output_kind(a.output);
   check_profile_for(kind, a.output, a.profile);
-  if (kind != OutputKind::svg) (void)a.plan.resolve();
+  (void)find_profile(a.profile);
+  (void)a.plan.resolve();
+  (void)budget::parse_duration(a.time);
   require_writable_dir(a.output);
   if (!a.preview.empty()) require_png_path("--preview", a.preview);
   require_range("--preview-dpi", a.preview_dpi, 10, 2400);
@@ -121,6 +221,44 @@ void MethodCommand::check_outputs() const {
 }
 
 namespace {
+
+// The budget's part of the summary and of the sentence.
+struct BudgetReport {
+  nlohmann::json json;
+  std::string words;
+};
+
+BudgetReport report_budget(const MethodDraft& draft, const budget::SearchOutcome& so, double budget_s,
+                           double plan_s, const std::string& profile) {
+  BudgetReport rep;
+  const double tone = draft.tone_share ? draft.tone_share(so.knob) : 1.0;
+  rep.json = {{"seconds", budget_s},        {"profile", profile},         {"knob", so.knob},
+              {"runs", so.runs},            {"quick_estimate_s", so.seconds}, {"predicted_s", so.predicted},
+              {"correction", so.correction}, {"finest", so.finest},        {"tone_share", tone},
+              {"ink_needed", draft.ink_needed}, {"ink_reached", tone * draft.ink_needed}};
+  std::ostringstream w;
+  w << "; plot " << budget::format_duration(plan_s) << " on " << profile << " (budget "
+    << budget::format_duration(budget_s) << ")";
+  if (tone < 0.995 && draft.tone_share) {
+    // The smallest knob with the full tone, and what the corrected prediction says it costs.
+    double lo = so.knob, hi = 1;
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (draft.tone_share(mid) < 0.995 ? lo : hi) = mid;
+    }
+    const double full_s = so.correction * draft.predict(hi);
+    rep.json["seconds_for_full_tone"] = full_s;
+    w.setf(std::ios::fixed);
+    w.precision(0);
+    w << "; tone " << 100 * tone << "% of the photo's (ink on " << 100 * tone * draft.ink_needed << "% of the area, "
+      << 100 * draft.ink_needed << "% needed): about --time " << budget::format_duration(full_s)
+      << " or a wider pen would reach it";
+  } else if (so.finest && plan_s < 0.8 * budget_s) {
+    w << "; the finest drawing needs no more";
+  }
+  rep.words = w.str();
+  return rep;
+}
 
 // The device a method's drawing is laid out for: the profile of a .gcode/.hpgl output, or
 // one named with --profile for an SVG; none for a plain SVG.
@@ -159,16 +297,51 @@ void MethodCommand::run() const {
   // For a device the page is turned like the photo: a landscape photo lies across it, a
   // portrait one is turned to the sheet by the layout.
   if (device && !a.place.landscape) placement.landscape = image.width > image.height;
+  const PageTransform tf = placement.transform(image.width, image.height);
+  const DeviceProfile prof = find_profile(a.profile);
+  const double budget_s = budget::parse_duration(a.time);
+  const PlanOptions po = plan_options_for(prof, Page{tf.page_w(), tf.page_h()}, a.plan);
+  const budget::MarkCosts costs(prof.motion, po);
+
   const auto t1 = std::chrono::steady_clock::now();
-  MethodResult r = draw_(MethodInput{image, placement, !a.report.json && !a.report.quiet});
+  // The draft may keep references to the input: it lives as long as the draft.
+  const MethodInput input{image, placement, costs, !a.report.json && !a.report.quiet};
+  const MethodDraft draft = prepare_(input);
+  // Every run is kept, so the search can fall back to an earlier one at no cost.
+  std::map<double, MethodResult> runs;
+  auto run_at = [&](double k) {
+    MethodResult r = draft.draw(k);
+    const double t = budget::quick_estimate_seconds(r.drawing, prof.motion, po);
+    runs[k] = std::move(r);
+    return t;
+  };
+  budget::SearchOptions so_opt;
+  so_opt.budget_s = budget_s;
+  const budget::SearchOutcome so = budget::choose_density(so_opt, draft.predict, run_at, draft.calibrate);
+  MethodResult r = std::move(runs.at(so.knob));
+  runs.clear();
+  // Every mark inside the image's rectangle on the page: strokes shaped near the border
+  // must not run past it, nor off a page with no margin.
+  const Vec2 img_lo = tf.map(0, 0), img_hi = tf.map(image.width, image.height);
+  const layout::ClipCounts clipped = layout::clip_to_rect(r.drawing, Rect{img_lo.x, img_lo.y, img_hi.x, img_hi.y});
   const double method_s = seconds_since(t1);
 
+  // The plan of the method's page: what the preview and the measures render, and the
+  // plot time (a layout for the device moves and turns the drawing, which keeps it).
+  const auto t2 = std::chrono::steady_clock::now();
+  const Plan plan = plan_drawing(r.drawing, po);
+  const PlanStats stats = plan_stats(plan, prof.motion, po.origin, output_kind(a.output) == OutputKind::gcode);
   nlohmann::json s = r.summary;
   s["command"] = name_;
   s["input"] = a.input;
   s["image_px"] = {image.width, image.height};
-  const PageTransform tf = placement.transform(image.width, image.height);
-  MethodRun mr(image, tf, r, a.preview_dpi, s);
+  s["clipped_at_image_edge"] = clipped.total();
+  s["profile"] = prof.name;
+  s["plan"] = to_json(stats);
+  s["seconds_plan"] = seconds_since(t2);
+  const BudgetReport budget_report = report_budget(draft, so, budget_s, stats.total.seconds, prof.name);
+  s["budget"] = budget_report.json;
+  MethodRun mr(image, tf, r, plan, a.preview_dpi, s);
   // -o gets the drawing laid out for the device; the preview and the measurements keep
   // the method's page, where the image lies as the transform says.
   std::string laid_out;
@@ -176,30 +349,29 @@ void MethodCommand::run() const {
   const Drawing out = lay_out ? lay_out_for_device(r.drawing, sheet_args, device ? &*device : nullptr,
                                                    placement.margin_mm, s, laid_out)
                               : Drawing{};
-  write_outputs(r, lay_out ? out : r.drawing, mr, s);
+  write_outputs(r, lay_out ? &out : nullptr, mr, s);
   if (r.measure) r.measure(mr);
   s["seconds_method"] = method_s;
   s["seconds"] = seconds_since(t0);
-  a.report.print(s, sentence(r, mr, s) + (laid_out.empty() ? "" : "; " + laid_out));
+  a.report.print(s, sentence(r, mr, s, budget_report.words) + (laid_out.empty() ? "" : "; " + laid_out));
 }
 
-void MethodCommand::write_outputs(MethodResult& r, const Drawing& d, MethodRun& run, nlohmann::json& s) const {
+void MethodCommand::write_outputs(MethodResult& r, const Drawing* laid_out, MethodRun& run, nlohmann::json& s) const {
   const Args& a = *args_;
+  const Drawing& d = laid_out ? *laid_out : r.drawing;
+  const auto t0 = std::chrono::steady_clock::now();
   if (output_kind(a.output) == OutputKind::svg) {
     write_svg(d, a.output);
-    s["output"] = a.output;
-  } else {
+  } else if (laid_out) {
+    // Laid out for the device: planned again on its sheet (the summary's plan is this one).
     write_planned_output(d, a.output, a.profile, a.plan, false, s);
+  } else {
+    write_plan_file(run.plan, a.output, find_profile(a.profile), false, &s["plan"]);
   }
+  s["output"] = a.output;
+  s["seconds_write"] = seconds_since(t0);
   if (!a.preview.empty()) {
-    if (r.render_preview) {
-      write_png(run.preview_page(), a.preview);
-    } else {
-      PreviewOptions po;
-      po.dpi = a.preview_dpi;
-      po.ink_multiplies = r.ink_multiplies;
-      write_preview_png(d, a.preview, po);
-    }
+    write_png(run.preview_page(), a.preview);
     s["preview"] = a.preview;
   }
   for (const auto& p : pngs_) {
@@ -221,12 +393,13 @@ void MethodCommand::write_outputs(MethodResult& r, const Drawing& d, MethodRun& 
   s["page_mm"] = {d.page.width_mm, d.page.height_mm};
 }
 
-std::string MethodCommand::sentence(const MethodResult& r, const MethodRun& run, const nlohmann::json& s) const {
+std::string MethodCommand::sentence(const MethodResult& r, const MethodRun& run, const nlohmann::json& s,
+                                    const std::string& budget_words) const {
   const Args& a = *args_;
   std::ostringstream h;
   h.setf(std::ios::fixed);
   h.precision(2);
-  h << "wrote " << a.output << ": " << r.counts << " in " << s["seconds"].get<double>() << " s" << run.notes();
+  h << "wrote " << a.output << ": " << r.counts << " in " << s["seconds"].get<double>() << " s" << budget_words << run.notes();
   if (!a.preview.empty()) h << "; preview " << a.preview;
   for (const auto& p : pngs_)
     if (!p->path.empty() && !p->sentence_word.empty()) h << "; " << p->sentence_word << " " << p->path;

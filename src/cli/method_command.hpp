@@ -4,9 +4,12 @@
 // added once, and the one path from a method's Drawing to its outputs is written once:
 // check every option and output before any work, load the image, run the method, then
 // -o (SVG, or planned G-code/HPGL), the preview PNG, the method's extra PNGs, its
-// measurements, the --json line and the "wrote ..." sentence. A cmd_*.cpp adds only its
-// own options and turns an image into a MethodResult; anything to do to every method's
-// drawing on its way to the outputs belongs in MethodCommand::run.
+// measurements, the --json line and the "wrote ..." sentence. Every drawing is made for
+// a plot-time budget (--time, default 1 h on --profile): the method says how its plot
+// time grows with one density knob, and the shared search (budget/density_search.hpp)
+// picks the knob. A cmd_*.cpp adds only its own options and turns an image into a
+// MethodDraft; anything to do to every method's drawing on its way to the outputs
+// belongs in MethodCommand::run.
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <map>
@@ -15,11 +18,13 @@
 #include <string>
 #include <vector>
 
+#include "budget/mark_costs.hpp"
 #include "cli/common.hpp"
 #include "geometry/drawing.hpp"
 #include "geometry/page.hpp"
 #include "image/image.hpp"
 #include "methods/placement.hpp"
+#include "plan/plan.hpp"
 
 namespace stipplot::cli {
 
@@ -29,7 +34,8 @@ class MethodRun;
 struct MethodInput {
   const Image& image;
   const Placement& placement;
-  bool show_progress = false;  // a progress bar is welcome (no --json, no --quiet)
+  const budget::MarkCosts& costs;  // what marks cost on the chosen profile
+  bool show_progress = false;      // a progress bar is welcome (no --json, no --quiet)
 };
 
 // What a method hands to the shared output path.
@@ -39,11 +45,12 @@ struct MethodResult {
   // The sentence's middle: "wrote OUT: <counts> in 1.23 s", e.g. "1234 dots in 1 layer
   // (gray, 640x480 px)".
   std::string counts;
-  // The preview is the Drawing as drawn on its paper: translucent ink multiplying with
-  // what is under it, or (false) opaque paint covering it ...
-  bool ink_multiplies = true;
-  // ... unless the method renders its marks itself (the sketch averages overlapping
-  // colours); called at most once, at --preview-dpi.
+  // The preview and the measures are the pen-true render of the plan (preview.hpp) ...
+  // unless the drawing is in screen colours no pen has (pointillism's exact colours,
+  // stipple's 26 colours): then its primitives are painted as they are, opaque ...
+  bool screen_colours = false;
+  // ... or the method renders its marks itself (the sketch's paper-style preview, which
+  // averages overlapping colours); called at most once, at --preview-dpi.
   std::function<Image(double dpi)> render_preview;
   // The images of the method's extra PNG options, by option name ("--terrain"); each is
   // made only when its option was given.
@@ -52,14 +59,41 @@ struct MethodResult {
   std::function<void(MethodRun&)> measure;
 };
 
+// A method ready to draw at any density: what the budget search needs (see
+// budget/density_search.hpp). The knob k is in [0, 1]; plot time grows with it; 1 is the
+// finest drawing the method makes.
+struct MethodDraft {
+  std::function<double(double k)> predict;     // plot seconds at k, cheap (statistics x mark costs)
+  std::function<MethodResult(double k)> draw;  // the method at k
+  std::function<void(double k)> calibrate;     // optional: a cheap pilot at k that corrects predict
+  // The share of the photo's tone the drawing at k reaches (1 = all of it: the budget
+  // fades the drawing evenly below that). Null: always all of it.
+  std::function<double(double k)> tone_share;
+  double ink_needed = 0;  // mean ink coverage of the page area the photo's tones need
+};
+
+// A method whose drawing does not depend on the budget: one run, whatever --time says.
+MethodDraft fixed_density(std::function<MethodResult()> draw);
+
+// A method whose marks each lay a little of the tone (sketch strokes, pointillism
+// circles): one run at its full density, then at k < 1 each layer keeps the share k of
+// its marks, picked by a golden-ratio sequence over their order so the thinning is even
+// and the tone fades evenly. The plot time of the full run, scaled by k, predicts the
+// rest. Costs one run of the method, its quick estimate, and O(marks) a thinning.
+MethodDraft thinned_density(const MethodInput& in, std::function<MethodResult()> draw);
+
+// The drawing with the share k of every layer's marks of each kind (see thinned_density).
+Drawing thin_marks(const Drawing& d, double k);
+
 // What a method's measurement sees and adds to.
 class MethodRun {
  public:
-  MethodRun(const Image& input, const PageTransform& transform, const MethodResult& result, double preview_dpi,
-            nlohmann::json& summary);
+  MethodRun(const Image& input, const PageTransform& transform, const MethodResult& result, const Plan& plan,
+            double preview_dpi, nlohmann::json& summary);
   const Image& input;
   const PageTransform& transform;  // how the image lies on the page
   const MethodResult& result;
+  const Plan& plan;                // what the plotter will draw
   nlohmann::json& summary;
   // Appends "; <label> <value>" (two decimals) to the sentence, before the preview is
   // named: "; mean dE00 4.20".
@@ -69,9 +103,10 @@ class MethodRun {
   Image preview_over_image();
   // The preview as a whole page, rendered once; written to --preview by MethodCommand.
   const Image& preview_page();
-  // The Drawing rendered at one pixel per input pixel and cut to the image's rectangle:
-  // what a measure compares with the input pixel by pixel.
-  Image drawing_over_image(bool ink_multiplies) const;
+  // The pen-true render (or the screen-colour paint, see MethodResult) at one pixel per
+  // input pixel (at least 150 dpi), cut to the image's rectangle: what a measure compares
+  // with the input. `opaque`: every pen's ink painted over what is under it instead.
+  Image render_over_image(bool opaque = false) const;
 
  private:
   double preview_dpi_;
@@ -85,7 +120,7 @@ std::string pixel_size(const Image& image);
 class MethodCommand {
  public:
   // Adds subcommand `name` with the shared options: IN, -o, --profile and planning,
-  // --preview, --preview-dpi, --json, --quiet, --max-pixels, and the page options.
+  // --time, --preview, --preview-dpi, --json, --quiet, --max-pixels, and the page options.
   static std::shared_ptr<MethodCommand> add(CLI::App& app, const std::string& name, const std::string& description,
                                             const std::string& footer);
   CLI::App* cli() const { return cmd_; }
@@ -97,16 +132,18 @@ class MethodCommand {
                       const std::string& sentence_word);
 
   // The method: `check` turns its options into parameters before any file is read or
-  // written (throws UserError); `draw` runs it.
-  void define(std::function<void()> check, std::function<MethodResult(const MethodInput&)> draw);
+  // written (throws UserError); `prepare` readies it for the image (working grid,
+  // statistics) and returns how to draw it at any density.
+  void define(std::function<void()> check, std::function<MethodDraft(const MethodInput&)> prepare);
 
  private:
   MethodCommand() = default;
   void run() const;
   void check_outputs() const;
-  // `out` is the drawing for -o: r.drawing laid out for the device, or r.drawing itself.
-  void write_outputs(MethodResult& r, const Drawing& out, MethodRun& run, nlohmann::json& s) const;
-  std::string sentence(const MethodResult& r, const MethodRun& run, const nlohmann::json& s) const;
+  // `laid_out` is the drawing for -o laid out for the device (null: r.drawing itself).
+  void write_outputs(MethodResult& r, const Drawing* laid_out, MethodRun& run, nlohmann::json& s) const;
+  std::string sentence(const MethodResult& r, const MethodRun& run, const nlohmann::json& s,
+                       const std::string& budget_words) const;
 
   struct Args;
   struct PngOutput {
@@ -117,7 +154,7 @@ class MethodCommand {
   std::shared_ptr<Args> args_;
   std::vector<std::unique_ptr<PngOutput>> pngs_;  // stable addresses: CLI11 writes into path
   std::function<void()> check_;
-  std::function<MethodResult(const MethodInput&)> draw_;
+  std::function<MethodDraft(const MethodInput&)> prepare_;
 };
 
 }  // namespace stipplot::cli

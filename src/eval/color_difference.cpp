@@ -3,7 +3,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
-#include "util/error.hpp"
+#include "detail/same_size.hpp"
 
 namespace stipplot {
 
@@ -19,22 +19,8 @@ cv::Mat lab_blurred(const cv::Mat& rgb8, double sigma) {
 }  // namespace
 
 double mean_delta_e00_blurred(const Image& input, const Image& drawn, double sigma_px) {
-  if (input.pixels() == 0 || drawn.pixels() == 0) throw UserError("colour fidelity: empty image");
-  require_nonnegative("sigma", sigma_px);
-  cv::Mat in(input.height, input.width, CV_8UC3, const_cast<uint8_t*>(input.rgb.data()));
-  cv::Mat dr(drawn.height, drawn.width, CV_8UC3, const_cast<uint8_t*>(drawn.rgb.data()));
-  // Compare at the smaller of the two resolutions (a 12-megapixel input against a
-  // 150 dpi preview is compared at the preview's size), scaling the blur with it.
-  cv::Mat a = in, b;
-  double sigma = sigma_px;
-  if (drawn.width < input.width) {
-    cv::resize(in, a, cv::Size(drawn.width, drawn.height), 0, 0, cv::INTER_AREA);
-    sigma *= static_cast<double>(drawn.width) / input.width;
-    b = dr;
-  } else {
-    cv::resize(dr, b, cv::Size(input.width, input.height), 0, 0, cv::INTER_AREA);
-  }
-  const cv::Mat la = lab_blurred(a, sigma), lb = lab_blurred(b, sigma);
+  const eval_detail::SameSize s = eval_detail::same_size(input, drawn, sigma_px);
+  const cv::Mat la = lab_blurred(s.input, s.sigma), lb = lab_blurred(s.drawn, s.sigma);
   double total = 0;
   for (int y = 0; y < la.rows; ++y) {
     const cv::Vec3f* pa = la.ptr<cv::Vec3f>(y);

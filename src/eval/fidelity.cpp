@@ -5,6 +5,7 @@
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "eval/mark_spacing.hpp"
 #include "util/error.hpp"
 
 namespace stipplot {
@@ -107,6 +108,10 @@ FidelityResult evaluate_fidelity(const Image& input, const Image& drawn, const F
   res.dot_spacing = res.dots ? std::sqrt(static_cast<double>(input.pixels()) / static_cast<double>(res.dots))
                              : std::max(input.width, input.height);
   res.sigma = opt.sigma > 0 ? opt.sigma : res.dot_spacing;
+  std::vector<Vec2> centres;
+  centres.reserve(blobs.size());
+  for (const auto& b : blobs) centres.push_back({b.x, b.y});
+  res.mark_spacing = mark_spacing(centres);
 
   // Blurred SSIM at input resolution.
   cv::Mat dr;

@@ -21,6 +21,7 @@ struct FidelityResult {
   double ssim_blurred = 0;
   double sigma = 0;          // the blur used
   double dot_spacing = 0;    // sqrt(area / dots)
+  double mark_spacing = 0;   // of the ink blobs' centres (eval/mark_spacing.hpp), input px
   size_t dots = 0, dark_dots = 0, light_dots = 0;
   size_t dots_near_edges = 0, spilled = 0;
   double edge_spill = 0;     // spilled / dots_near_edges (0 when none near edges)

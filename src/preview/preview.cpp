@@ -19,22 +19,34 @@ double luminance(Color c) { return 0.299 * c.r + 0.587 * c.g + 0.114 * c.b; }
 
 void set_colour(cairo_t* cr, Color c) { cairo_set_source_rgb(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0); }
 
-SurfacePtr render_surface(const Drawing& d, const PreviewOptions& opt) {
-  require_range("--preview-dpi", opt.dpi, 10, 2400);
-  const double s = opt.dpi / 25.4;  // px per mm
-  const double wpx = std::ceil(d.page.width_mm * s), hpx = std::ceil(d.page.height_mm * s);
+// A page-sized surface painted with the paper colour, and a context scaled to mm.
+struct Canvas {
+  SurfacePtr surf{nullptr, &cairo_surface_destroy};
+  CairoPtr cr{nullptr, &cairo_destroy};
+};
+
+Canvas page_canvas(const Page& page, double dpi) {
+  require_range("--preview-dpi", dpi, 10, 2400);
+  const double s = dpi / 25.4;  // px per mm
+  const double wpx = std::ceil(page.width_mm * s), hpx = std::ceil(page.height_mm * s);
   if (wpx * hpx > 400e6) throw UserError("preview would be " + std::to_string(static_cast<long>(wpx)) + "x" +
                                          std::to_string(static_cast<long>(hpx)) + " pixels; lower --preview-dpi");
-  SurfacePtr surf(cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(wpx), static_cast<int>(hpx)),
-                  &cairo_surface_destroy);
-  if (cairo_surface_status(surf.get()) != CAIRO_STATUS_SUCCESS) throw UserError("cannot allocate the preview image");
-  CairoPtr cr(cairo_create(surf.get()), &cairo_destroy);
-  cairo_t* c = cr.get();
-  set_colour(c, d.page.paper);
+  Canvas cv;
+  cv.surf.reset(cairo_image_surface_create(CAIRO_FORMAT_RGB24, static_cast<int>(wpx), static_cast<int>(hpx)));
+  if (cairo_surface_status(cv.surf.get()) != CAIRO_STATUS_SUCCESS) throw UserError("cannot allocate the preview image");
+  cv.cr.reset(cairo_create(cv.surf.get()));
+  cairo_t* c = cv.cr.get();
+  set_colour(c, page.paper);
   cairo_paint(c);
   cairo_scale(c, s, s);
   cairo_set_line_cap(c, CAIRO_LINE_CAP_ROUND);
   cairo_set_line_join(c, CAIRO_LINE_JOIN_ROUND);
+  return cv;
+}
+
+SurfacePtr render_surface(const Drawing& d, const PreviewOptions& opt) {
+  Canvas cv = page_canvas(d.page, opt.dpi);
+  cairo_t* c = cv.cr.get();
   const double paper_lum = luminance(d.page.paper);
   for (const auto& layer : d.layers) {
     const bool multiply = opt.ink_multiplies && luminance(layer.pen.color) < paper_lum;
@@ -84,19 +96,57 @@ SurfacePtr render_surface(const Drawing& d, const PreviewOptions& opt) {
       cairo_stroke(c);
     }
   }
-  cairo_surface_flush(surf.get());
-  return surf;
+  cv.cr.reset();
+  cairo_surface_flush(cv.surf.get());
+  return std::move(cv.surf);
 }
 
-}  // namespace
+// Each pen's strokes as one group (the union of its ink), then composited: multiplied
+// with the page where the ink is darker than the paper, over it where lighter.
+SurfacePtr render_plan_surface(const Plan& plan, const PreviewOptions& opt) {
+  Canvas cv = page_canvas(plan.page, opt.dpi);
+  cairo_t* c = cv.cr.get();
+  const double paper_lum = luminance(plan.page.paper);
+  for (const auto& layer : plan.layers) {
+    if (layer.strokes.empty()) continue;
+    const double w = layer.pen.width_mm;
+    cairo_push_group_with_content(c, CAIRO_CONTENT_COLOR_ALPHA);
+    cairo_set_operator(c, CAIRO_OPERATOR_OVER);
+    set_colour(c, layer.pen.color);
+    // Touches first, all in one fill; then the strokes in one stroke call: one path a
+    // call is far faster than a call a stroke, and the union is the same ink.
+    cairo_new_path(c);
+    for (const Stroke& st : layer.strokes) {
+      if (st.pts.size() != 1) continue;
+      cairo_new_sub_path(c);
+      cairo_arc(c, st.pts[0].x, st.pts[0].y, w / 2, 0, 2 * M_PI);
+    }
+    cairo_set_fill_rule(c, CAIRO_FILL_RULE_WINDING);
+    cairo_fill(c);
+    cairo_set_line_width(c, w);
+    for (const Stroke& st : layer.strokes) {
+      if (st.pts.size() < 2) continue;
+      cairo_move_to(c, st.pts[0].x, st.pts[0].y);
+      for (size_t i = 1; i < st.pts.size(); ++i) cairo_line_to(c, st.pts[i].x, st.pts[i].y);
+    }
+    cairo_stroke(c);
+    cairo_pop_group_to_source(c);
+    const bool multiply = opt.ink_multiplies && luminance(layer.pen.color) < paper_lum;
+    cairo_set_operator(c, multiply ? CAIRO_OPERATOR_MULTIPLY : CAIRO_OPERATOR_OVER);
+    cairo_paint(c);
+    cairo_set_source_rgb(c, 0, 0, 0);
+  }
+  cv.cr.reset();
+  cairo_surface_flush(cv.surf.get());
+  return std::move(cv.surf);
+}
 
-Image render_preview(const Drawing& d, const PreviewOptions& opt) {
-  SurfacePtr surf = render_surface(d, opt);
+Image to_image(cairo_surface_t* surf) {
   Image im;
-  im.width = cairo_image_surface_get_width(surf.get());
-  im.height = cairo_image_surface_get_height(surf.get());
-  const int stride = cairo_image_surface_get_stride(surf.get());
-  const unsigned char* data = cairo_image_surface_get_data(surf.get());
+  im.width = cairo_image_surface_get_width(surf);
+  im.height = cairo_image_surface_get_height(surf);
+  const int stride = cairo_image_surface_get_stride(surf);
+  const unsigned char* data = cairo_image_surface_get_data(surf);
   im.rgb.resize(im.pixels() * 3);
   for (int y = 0; y < im.height; ++y) {
     const uint32_t* row = reinterpret_cast<const uint32_t*>(data + static_cast<size_t>(y) * stride);
@@ -110,6 +160,12 @@ Image render_preview(const Drawing& d, const PreviewOptions& opt) {
   }
   return im;
 }
+
+}  // namespace
+
+Image render_preview(const Drawing& d, const PreviewOptions& opt) { return to_image(render_surface(d, opt).get()); }
+
+Image render_plan(const Plan& plan, const PreviewOptions& opt) { return to_image(render_plan_surface(plan, opt).get()); }
 
 namespace {
 void write_surface_png(cairo_surface_t* surf, const std::string& path) {

@@ -91,7 +91,7 @@ TEST_CASE("bad input: one error line, non-zero exit, no output file", "[cli][bad
 TEST_CASE("eval prints blurred SSIM and edge spill", "[cli][eval]") {
   test::TempDir t;
   REQUIRE(test::run_cli("stipple " + sample("horse.png") + " -q -o " + t.file("h.svg") + " --preview " +
-                        t.file("h.png") + " -a 2 -b 8 --landscape")
+                        t.file("h.png") + " --law linear -a 2px -b 8px --landscape")
               .exit_code == 0);
   auto r = test::run_cli("eval " + sample("horse.png") + " " + t.file("h.png") + " --landscape --json");
   INFO(r.err);

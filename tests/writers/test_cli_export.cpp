@@ -64,7 +64,8 @@ TEST_CASE("method commands write G-code and HPGL directly", "[cli][export]") {
   std::string img = std::string(STIPPLOT_SOURCE_DIR) + "/examples/coffee.png";
   int status = 0;
   fs::path g = dir / "c.gcode";
-  std::string o = run("stipple " + img + " -o " + g.string() + " --optimize-seconds 0.2 --json", status);
+  // The paper's law: every dot one pen touch (the tone law's larger dots are fills).
+  std::string o = run("stipple " + img + " -o " + g.string() + " --law linear --optimize-seconds 0.2 --json", status);
   INFO(o);
   REQUIRE(status == 0);
   auto j = nlohmann::json::parse(o);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -126,16 +127,23 @@ RadiusTable RadiusTable::linear(double a, double b, bool inverted) {
   return t;
 }
 
-double RadiusTable::min() const { return *std::min_element(r, r + 256); }
+double RadiusTable::min() const {
+  double m = std::numeric_limits<double>::infinity();
+  for (double v : r)
+    if (v < m) m = v;
+  return m;
+}
 
 namespace {
 constexpr size_t kProgressMask = (1u << 20) - 1;
 
-// True when the radius never decreases along the order, so CoverMask applies.
+// True when the radius never decreases along the order, so CoverMask applies (pixels
+// that never get a dot do not count).
 bool radii_monotone(const std::vector<uint8_t>& d, const RadiusTable& radius, const std::vector<uint32_t>& order) {
   double last = -1;
   for (uint32_t idx : order) {
     double r = radius.r[d[idx]];
+    if (radius.none(d[idx])) continue;
     if (r < last) return false;
     last = r;
   }
@@ -145,15 +153,16 @@ bool radii_monotone(const std::vector<uint8_t>& d, const RadiusTable& radius, co
 
 std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& d, const RadiusTable& radius,
                              const std::vector<uint32_t>& order, const ProgressFn& progress) {
-  DotGrid grid(width, height, radius.min());
   std::vector<uint32_t> dots;
+  if (!std::isfinite(radius.min())) return dots;
+  DotGrid grid(width, height, radius.min());
   const uint32_t w = static_cast<uint32_t>(width);
   if (radii_monotone(d, radius, order)) {
     CoverMask cover(width, height);
     for (size_t k = 0; k < order.size(); ++k) {
       if (progress && (k & kProgressMask) == 0) progress(static_cast<double>(k) / static_cast<double>(order.size()));
       const uint32_t idx = order[k];
-      if (cover.covered(idx)) continue;
+      if (cover.covered(idx) || radius.none(d[idx])) continue;
       const int x = static_cast<int>(idx % w), y = static_cast<int>(idx / w);
       const uint8_t v = d[idx];
       if (!grid.any_within(x, y, radius.r[v], radius.r2[v])) {
@@ -167,6 +176,7 @@ std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& 
   for (size_t k = 0; k < order.size(); ++k) {
     if (progress && (k & kProgressMask) == 0) progress(static_cast<double>(k) / static_cast<double>(order.size()));
     const uint32_t idx = order[k];
+    if (radius.none(d[idx])) continue;
     const int x = static_cast<int>(idx % w), y = static_cast<int>(idx / w);
     const uint8_t v = d[idx];
     if (!grid.any_within(x, y, radius.r[v], radius.r2[v])) {
@@ -180,7 +190,9 @@ std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& 
 BinaryResult sample_binary(int width, int height, const std::vector<uint8_t>& d, const RadiusTable& s,
                            const RadiusTable& t, const std::vector<uint32_t>& dark_first,
                            const ProgressFn& progress) {
-  DotGrid black(width, height, s.min()), white(width, height, t.min());
+  // A colour that never gets a dot still needs a (never queried) grid.
+  auto spacing = [](const RadiusTable& r) { return std::isfinite(r.min()) ? r.min() : 1.0; };
+  DotGrid black(width, height, spacing(s)), white(width, height, spacing(t));
   // Black radii grow along the dark-first order and white radii along its reverse
   // whenever s and t are the paper's linear ramps; otherwise the masks stay unused.
   const bool black_mono = radii_monotone(d, s, dark_first);
@@ -196,7 +208,7 @@ BinaryResult sample_binary(int width, int height, const std::vector<uint8_t>& d,
   // this colour lies within its radius.
   auto place = [&](uint32_t i, uint8_t mine, uint8_t other, DotGrid& grid, CoverMask& cover, bool mono,
                    const RadiusTable& r, std::vector<uint32_t>& dots) {
-    if (held[i] == other || (mono && cover.covered(i))) return;
+    if (held[i] == other || r.none(d[i]) || (mono && cover.covered(i))) return;
     const int x = static_cast<int>(i % w), y = static_cast<int>(i / w);
     if (grid.any_within(x, y, r.r[d[i]], r.r2[d[i]])) return;
     grid.insert(x, y);

@@ -58,12 +58,14 @@ class CoverMask {
   std::vector<uint64_t> bits_;
 };
 
-// Radius lookup by grey level: r(d) for d = 0..255.
+// Radius lookup by grey level: r(d) for d = 0..255. An infinite radius means a pixel of
+// that level never gets a dot (tones too light to draw).
 struct RadiusTable {
   double r[256];
   double r2[256];
   static RadiusTable linear(double a, double b, bool inverted);  // a + b*d/255 or a + b*(255-d)/255
-  double min() const;
+  double min() const;  // the smallest finite radius (infinity if none)
+  bool none(uint8_t v) const { return !(r[v] < 1e300); }
 };
 
 // Poisson disk sampling: visit pixels in `order`; a pixel gets a dot unless a dot

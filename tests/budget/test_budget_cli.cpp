@@ -1,0 +1,142 @@
+// The plot-time budget as a user meets it: every method command plans its drawing to fit
+// --time on the profile (planned time <= the budget, and >= 0.8 of it where the image can
+// use it), and the same page and pen give the same drawing whatever the input's size.
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "cli/method_command.hpp"
+#include "preview/preview.hpp"
+#include "svg/svg_reader.hpp"
+#include "test_util.hpp"
+
+namespace {
+
+std::string example(const char* name) { return std::string(STIPPLOT_SOURCE_DIR) + "/examples/" + name; }
+
+nlohmann::json run_json(const std::string& args) {
+  const auto r = test::run_cli(args + " --json");
+  INFO(args << "\n" << r.err);
+  REQUIRE(r.exit_code == 0);
+  return nlohmann::json::parse(r.out);
+}
+
+// The input resampled by `scale` (area averaging down, cubic up), written as PNG.
+std::string scaled_copy(const test::TempDir& t, const std::string& src, double scale, const std::string& name) {
+  const stipplot::Image in = stipplot::load_image(src);
+  stipplot::Image out;
+  out.width = static_cast<int>(in.width * scale);
+  out.height = static_cast<int>(in.height * scale);
+  out.rgb.resize(out.pixels() * 3);
+  const cv::Mat a(in.height, in.width, CV_8UC3, const_cast<uint8_t*>(in.rgb.data()));
+  cv::Mat b(out.height, out.width, CV_8UC3, out.rgb.data());
+  cv::resize(a, b, b.size(), 0, 0, scale < 1 ? cv::INTER_AREA : cv::INTER_CUBIC);
+  stipplot::write_png(out, t.file(name));
+  return t.file(name);
+}
+
+}  // namespace
+
+TEST_CASE("the planned plot fits the budget and uses it: 15 min, 1 h, 4 h on two profiles", "[budget][cli][slow]") {
+  test::TempDir t;
+  const std::string img = example("coffee.png");
+  for (const char* profile : {"grbl-servo", "hp7475a-a4"}) {
+    for (const char* time : {"15min", "1h", "4h"}) {
+      const double budget = std::string(time) == "15min" ? 900 : std::string(time) == "1h" ? 3600 : 14400;
+      const auto j = run_json("stipple " + img + " -o " + t.file("b.svg") + " --profile " + profile + " --time " + time);
+      const double planned = j["plan"]["total"]["seconds"].get<double>();
+      INFO(profile << " " << time << ": planned " << planned << " s, knob " << j["budget"]["knob"]);
+      CHECK(planned <= budget);
+      // The finest drawing (every dot one pen touch at the spacing of the tone) is all
+      // an image can use: below that the budget must be used.
+      if (!j["budget"]["finest"].get<bool>()) CHECK(planned >= 0.8 * budget);
+      CHECK(j["budget"]["seconds"].get<double>() == budget);
+    }
+  }
+}
+
+TEST_CASE("the same page and pen give the same marks whatever the input's resolution", "[budget][cli][slow]") {
+  test::TempDir t;
+  const std::string img = example("coffee.png");
+  const std::string quarter = scaled_copy(t, img, 0.25, "q.png"), four = scaled_copy(t, img, 4, "x4.png");
+  const std::string opts = " -o " + t.file("r.svg") + " --time 30min";
+  const auto base = run_json("stipple " + img + opts);
+  const double n = base["primitives"].get<double>();
+  for (const std::string& other : {quarter, four}) {
+    const auto j = run_json("stipple " + other + opts);
+    INFO(other << ": " << j["primitives"] << " marks against " << n);
+    CHECK(std::abs(j["primitives"].get<double>() - n) <= 0.05 * n);
+  }
+}
+
+TEST_CASE("sketch and pointillism fit the budget and use it: 15 min and 1 h on two profiles", "[budget][cli][slow]") {
+  test::TempDir t;
+  const std::string img = example("coffee.png");
+  for (const char* method : {"sketch", "pointillism"}) {
+    for (const char* profile : {"grbl-servo", "hp7475a-a4"}) {
+      for (const char* time : {"15min", "1h"}) {
+        const double budget = std::string(time) == "15min" ? 900 : 3600;
+        const auto j = run_json(std::string(method) + " " + img + " -o " + t.file("b.svg") + " --profile " + profile +
+                                " --time " + time);
+        const double planned = j["plan"]["total"]["seconds"].get<double>();
+        INFO(method << " " << profile << " " << time << ": planned " << planned << " s, knob " << j["budget"]["knob"]);
+        CHECK(planned <= budget);
+        if (!j["budget"]["finest"].get<bool>()) CHECK(planned >= 0.8 * budget);
+        // Thinned evenly: the tone share is the share of marks kept.
+        CHECK(j["budget"]["tone_share"].get<double>() == Approx(j["budget"]["knob"].get<double>()));
+      }
+    }
+  }
+}
+
+TEST_CASE("every method's marks stay inside the image's rectangle with no margin", "[budget][cli]") {
+  test::TempDir t;
+  const std::string img = example("coffee.png");
+  const stipplot::Image in = stipplot::load_image(img);
+  // 60 x 60 mm, no margin: the image fills the width, its rectangle touches the page's edge.
+  const double h = 60.0 * in.height / in.width, top = (60 - h) / 2, eps = 1e-6;
+  auto outside = [&](stipplot::Vec2 p) { return p.x < -eps || p.x > 60 + eps || p.y < top - eps || p.y > top + h + eps; };
+  for (const char* method : {"sketch", "pointillism", "stipple", "tree"}) {
+    const std::string opts = " --page 60x60mm --margin 0 --time 10min";
+    // G-code: the writer refuses any point off the page.
+    run_json(std::string(method) + " " + img + " -o " + t.file("c.gcode") + opts);
+    run_json(std::string(method) + " " + img + " -o " + t.file("c.svg") + opts);
+    const stipplot::Drawing d = stipplot::read_svg(t.file("c.svg"));
+    size_t out = 0, marks = 0;
+    for (const auto& l : d.layers) {
+      for (const auto& pl : l.lines)
+        for (const auto& p : pl.pts) out += outside(p), ++marks;
+      for (const auto& c : l.circles) out += outside(c.c), ++marks;
+      for (const auto& dot : l.dots) out += outside(dot.c), ++marks;
+    }
+    INFO(method << ": " << out << " of " << marks << " points outside");
+    CHECK(marks > 0);
+    CHECK(out == 0);
+  }
+}
+
+TEST_CASE("thinning keeps the share k of every kind of mark spread evenly over the list", "[budget]") {
+  stipplot::Drawing d;
+  d.layers.resize(2);
+  for (int i = 0; i < 1000; ++i) {
+    d.layers[0].lines.push_back({{{double(i), 0}, {double(i), 1}}});
+    d.layers[1].dots.push_back({{double(i), 0}, 0.3});
+    d.layers[1].circles.push_back({{double(i), 0}, 1.0});
+  }
+  for (double k : {0.1, 0.37, 0.5, 0.9}) {
+    const stipplot::Drawing t = stipplot::cli::thin_marks(d, k);
+    REQUIRE(t.layers.size() == 2);
+    INFO("k = " << k);
+    CHECK(std::abs(double(t.layers[0].lines.size()) - 1000 * k) <= 2);
+    CHECK(std::abs(double(t.layers[1].dots.size()) - 1000 * k) <= 2);
+    CHECK(std::abs(double(t.layers[1].circles.size()) - 1000 * k) <= 2);
+    // Every tenth of the list keeps its share (the golden-ratio sequence's low discrepancy).
+    for (int tenth = 0; tenth < 10; ++tenth) {
+      size_t n = 0;
+      for (const auto& l : t.layers[0].lines) n += l.pts[0].x >= tenth * 100 && l.pts[0].x < (tenth + 1) * 100;
+      CHECK(std::abs(double(n) - 100 * k) <= 3);
+    }
+  }
+  CHECK(stipplot::cli::thin_marks(d, 1).primitive_count() == d.primitive_count());
+  CHECK(stipplot::cli::thin_marks(d, 0).layers.empty());
+}
