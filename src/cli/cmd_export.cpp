@@ -11,6 +11,7 @@
 #include "svg/svg_reader.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
+#include "util/output_paths.hpp"
 #include "util/units.hpp"
 
 namespace stipplot::cli {
@@ -67,8 +68,8 @@ void register_export(CLI::App& app) {
     (void)a.plan.resolve();
     check_layout_args(a.layout);
     const DeviceProfile device = find_profile(a.profile);
-    require_writable_dir(a.output);
     if (!a.preview.empty()) require_png_path("--preview", a.preview);
+    check_output_paths({{"input", a.input}}, {{"-o", a.output}, {"--preview", a.preview}});
     SvgReadOptions ro;
     ro.tolerance_mm = tolerance_mm;
     ro.default_pen_width_mm = pen_width_mm;

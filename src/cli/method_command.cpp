@@ -10,6 +10,7 @@
 #include "svg/svg_writer.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
+#include "util/output_paths.hpp"
 
 namespace stipplot::cli {
 
@@ -112,12 +113,15 @@ void MethodCommand::check_outputs() const {
   const OutputKind kind = output_kind(a.output);
   check_profile_for(kind, a.output, a.profile);
   if (kind != OutputKind::svg) (void)a.plan.resolve();
-  require_writable_dir(a.output);
   if (!a.preview.empty()) require_png_path("--preview", a.preview);
   require_range("--preview-dpi", a.preview_dpi, 10, 2400);
   if (a.max_pixels == 0) throw UserError("--max-pixels must be at least 1");
-  for (const auto& p : pngs_)
+  std::vector<NamedPath> outputs{{"-o", a.output}, {"--preview", a.preview}};
+  for (const auto& p : pngs_) {
     if (!p->path.empty()) require_png_path(p->option, p->path);
+    outputs.push_back({p->option, p->path});
+  }
+  check_output_paths({{"input", a.input}}, outputs);
 }
 
 namespace {
