@@ -62,8 +62,8 @@ void register_export(CLI::App& app) {
     ExportArgs& a = *args;
     const double tolerance_mm = parse_paper_mm(a.tolerance, "--tolerance");
     const double pen_width_mm = parse_paper_mm(a.pen_width, "--pen-width");
-    require_range("--tolerance", tolerance_mm, 1e-4, 10);
-    require_range("--pen-width", pen_width_mm, 0.01, 20);
+    require_range("--tolerance (mm)", tolerance_mm, 1e-4, 10);
+    require_range("--pen-width (mm)", pen_width_mm, 0.01, 20);
     (void)output_kind(a.output);
     (void)a.plan.resolve();
     check_layout_args(a.layout);

@@ -112,7 +112,7 @@ void MethodCommand::check_outputs() const {
   const Args& a = *args_;
   const OutputKind kind = output_kind(a.output);
   check_profile_for(kind, a.output, a.profile);
-  if (kind != OutputKind::svg) (void)a.plan.resolve();
+  (void)a.plan.resolve();  // even for an SVG, which is not planned: no option is silently ignored
   if (!a.preview.empty()) require_png_path("--preview", a.preview);
   require_range("--preview-dpi", a.preview_dpi, 10, 2400);
   if (a.max_pixels == 0) throw UserError("--max-pixels must be at least 1");

@@ -13,18 +13,18 @@
 namespace stipplot {
 
 void PlanOptions::validate() const {
-  require_nonnegative("--optimize-seconds", optimize_seconds);
-  require_range("join tolerance", join_tolerance_mm, 0, 10);
+  require_nonnegative("--optimize-seconds (s)", optimize_seconds);
+  require_range("join tolerance (mm)", join_tolerance_mm, 0, 10);
   require_range("fill pitch", fill_pitch, 0.05, 1.0);
   require_range("chord tolerance", chord_tolerance_mm, 1e-4, 1);
   require_range("neighbors", neighbors, 1, 64);
   require_range("origin x", origin.x, -1e6, 1e6);
   require_range("origin y", origin.y, -1e6, 1e6);
   require_range("--optimize-effort", optimize_effort, 0, 1000);
-  require_range("--hatch-spacing", hatch_spacing_mm, 0, 1000);
-  require_range("--hatch-angle", hatch_angle_degrees, -360, 360);
-  require_range("--simplify", simplify_mm, 0, 100);
-  require_range("--min-length", min_length_mm, 0, 10000);
+  require_range("--hatch-spacing (mm)", hatch_spacing_mm, 0, 1000);
+  require_range("--hatch-angle (degrees)", hatch_angle_degrees, -360, 360);
+  require_range("--simplify (mm)", simplify_mm, 0, 100);
+  require_range("--min-length (mm)", min_length_mm, 0, 10000);
   require_range("--multipass", passes, 1, 100);
 }
 

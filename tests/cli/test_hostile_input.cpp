@@ -8,6 +8,7 @@
 #include <fstream>
 #include <thread>
 
+#include <stb_image_write.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -188,4 +189,23 @@ TEST_CASE("a signal during the write leaves no temporary file", "[cli][outputs]"
     CHECK(WIFSIGNALED(status));
     CHECK(files_in(t.path.string()).empty());
   }
+}
+
+TEST_CASE("eval of a one-pixel-tall image ends in seconds", "[cli][bad-input]") {
+  // Once 8 minutes in GaussianBlur: no dots, so the blur was the image's length, 10^6 px.
+  test::TempDir t;
+  std::vector<uint8_t> row(1'000'000);
+  for (size_t i = 0; i < row.size(); ++i) row[i] = static_cast<uint8_t>(i * 7);
+  REQUIRE(stbi_write_png(t.file("long.png").c_str(), 1'000'000, 1, 1, row.data(), 1'000'000));
+  const auto t0 = std::chrono::steady_clock::now();
+  auto r = test::run_cli("eval " + t.file("long.png") + " " + t.file("long.png") + " --cropped --json");
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  INFO(r.err);
+  CHECK(r.exit_code == 0);
+  CHECK(s < 30);
+  // A sigma far past the image blurs it to its mean, at the same bounded cost.
+  r = test::run_cli("eval " + t.file("long.png") + " " + t.file("long.png") + " --cropped --sigma 1000 --json");
+  CHECK(r.exit_code == 0);
+  CHECK(test::run_cli("eval " + t.file("long.png") + " " + t.file("long.png") + " --sigma 1e308").err.find(
+            "--sigma (input px) must be a number in [0, 1000]") != std::string::npos);
 }
