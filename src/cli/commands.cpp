@@ -15,14 +15,15 @@ namespace {
 std::string check_value(const std::string& type, const std::string& v) {
   if (v.empty()) return "needs a value, got an empty one";
   const char* end = v.data() + v.size();
+  const char* digits = v.data() + (v[0] == '+' ? 1 : 0);  // "+5" is 5; from_chars takes no '+'
   if (type == "UINT") {
     uint64_t n = 0;
-    const auto r = std::from_chars(v.data(), end, n);
+    const auto r = std::from_chars(digits, end, n);
     if (r.ec != std::errc() || r.ptr != end)
       return "must be a whole number from 0 to 18446744073709551615, got '" + v + "'";
   } else if (type == "INT") {
     int64_t n = 0;
-    const auto r = std::from_chars(v.data(), end, n);
+    const auto r = std::from_chars(digits, end, n);
     if (r.ec != std::errc() || r.ptr != end)
       return "must be a whole number from -9223372036854775808 to 9223372036854775807, got '" + v + "'";
   } else if (type == "FLOAT") {
