@@ -7,6 +7,7 @@ PKGS=(
   libopencv-core-dev libopencv-imgproc-dev libstb-dev libcairo2-dev
   libcli11-dev libtomlplusplus-dev libnanoflann-dev libbenchmark-dev nlohmann-json3-dev
   libhersheyfont-dev hershey-fonts-data zlib1g-dev
+  clang-14 libclang-rt-14-dev  # the libFuzzer targets (scripts/fuzz.sh)
   inkscape  # not built against: its example drawings (/usr/share/inkscape/examples) are test inputs
 )
 missing=()

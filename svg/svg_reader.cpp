@@ -52,7 +52,7 @@ class Reader {
     const tinyxml2::XMLElement* root = doc.RootElement();
     if (!root || std::strcmp(local(root->Name()), "svg") != 0)
       throw UserError(name_ + ": not an SVG file (the root element is not <svg>)");
-    Affine ctm = root_transform(root);
+    Affine ctm = compose(root, Affine{}, root_transform(root));
     Style style;
     style.stroke_width_mm = -1;
     apply_style(root, style, ctm);
@@ -70,6 +70,7 @@ class Reader {
 
   // ---------- errors and attributes ----------
   [[noreturn]] void fail(const tinyxml2::XMLElement* e, const std::string& what) const {
+    if (!e) throw UserError(name_ + ": " + what);
     throw UserError(name_ + " line " + std::to_string(e->GetLineNum()) + ": <" + e->Name() + "> " + what);
   }
 
@@ -351,6 +352,20 @@ class Reader {
   };
 
   // ---------- transforms ----------
+  // `outer` after `inner`, refused when the product is no longer a sane map of the page:
+  // a non-finite entry, a stretch beyond 1e9 or a shift beyond the coordinate bound.
+  Affine compose(const tinyxml2::XMLElement* e, const Affine& outer, const Affine& inner) const {
+    const Affine m = outer * inner;
+    constexpr double kMaxStretch = 1e9;
+    const bool sane = std::fabs(m.a) <= kMaxStretch && std::fabs(m.b) <= kMaxStretch &&
+                      std::fabs(m.c) <= kMaxStretch && std::fabs(m.d) <= kMaxStretch &&
+                      std::fabs(m.e) <= kMaxCoordinateMm && std::fabs(m.f) <= kMaxCoordinateMm;
+    if (!sane)
+      fail(e, "transform makes a map of the page that is not finite or stretches beyond 1e9 "
+              "(or moves beyond +-1000000 mm)");
+    return m;
+  }
+
   Affine parse_transform(const tinyxml2::XMLElement* e, const char* text) const {
     Affine total;
     const char* p = text;
@@ -390,7 +405,7 @@ class Reader {
         m.d = v.size() > 1 ? v[1] : v[0];
       } else if (fn == "rotate") {
         nargs({1, 3});
-        rad = v[0] * kPi / 180;
+        rad = std::fmod(v[0], 360.0) * kPi / 180;  // rotate(1e308) would overflow to inf, cos(inf) NaN
         Affine r{std::cos(rad), std::sin(rad), -std::sin(rad), std::cos(rad), 0, 0};
         if (v.size() == 3) {
           Affine to{1, 0, 0, 1, v[1], v[2]}, back{1, 0, 0, 1, -v[1], -v[2]};
@@ -400,10 +415,10 @@ class Reader {
         }
       } else if (fn == "skewX") {
         nargs({1});
-        m.c = std::tan(v[0] * kPi / 180);
+        m.c = std::tan(std::fmod(v[0], 360.0) * kPi / 180);
       } else if (fn == "skewY") {
         nargs({1});
-        m.b = std::tan(v[0] * kPi / 180);
+        m.b = std::tan(std::fmod(v[0], 360.0) * kPi / 180);
       } else {
         bad("unknown function '" + fn + "'");
       }
@@ -427,7 +442,11 @@ class Reader {
     for (const char* s : kSkip)
       if (std::strcmp(tag, s) == 0) return;
     if (display_none(e)) return;
-    if (const char* t = e->Attribute("transform")) ctm = ctm * parse_transform(e, t);
+    if (++elements_ > opt_.max_elements)
+      fail(e, "is one element too many: more than " + std::to_string(opt_.max_elements) +
+                  " elements drawn, <use> copies counted (a <use> bomb?)");
+    element_ = e;
+    if (const char* t = e->Attribute("transform")) ctm = compose(e, ctm, parse_transform(e, t));
     apply_style(e, style, ctm);
 
     if (std::strcmp(tag, "g") == 0 || std::strcmp(tag, "svg") == 0 || std::strcmp(tag, "a") == 0) {
@@ -441,7 +460,7 @@ class Reader {
         layer = &label_storage;
       }
       if (std::strcmp(tag, "svg") == 0 && e != e->GetDocument()->RootElement()) {
-        ctm = ctm * Affine{1, 0, 0, 1, length_attr(e, "x", 0), length_attr(e, "y", 0)};
+        ctm = compose(e, ctm, Affine{1, 0, 0, 1, length_attr(e, "x", 0), length_attr(e, "y", 0)});
       }
       walk_children(e, ctm, style, layer);
       return;
@@ -544,7 +563,7 @@ class Reader {
     if (it == ids_.end()) fail(e, std::string("href=\"") + href + "\" names no element");
     if (use_depth_ >= 16) fail(e, "<use> nested too deeply (a reference cycle?)");
     ++use_depth_;
-    Affine t = ctm * Affine{1, 0, 0, 1, length_attr(e, "x", 0), length_attr(e, "y", 0)};
+    Affine t = compose(e, ctm, Affine{1, 0, 0, 1, length_attr(e, "x", 0), length_attr(e, "y", 0)});
     const tinyxml2::XMLElement* target = it->second;
     if (std::strcmp(local(target->Name()), "symbol") == 0) {
       Style st = style;
@@ -566,11 +585,20 @@ class Reader {
   // ---------- geometry builders (everything lands in page mm) ----------
   void move(Vec2 user, const Affine& ctm) {
     flush_current();
-    cur_.push_back(ctm.apply(user));
+    push(ctm.apply(user));
   }
   void line(Vec2 user, const Affine& ctm) { push(ctm.apply(user)); }
   void push(Vec2 p) {
-    if (cur_.empty() || !(cur_.back() == p)) cur_.push_back(p);
+    if (!cur_.empty() && cur_.back() == p) return;
+    check_point(p);
+    if (++points_ > opt_.max_points)
+      fail(element_, "makes the drawing more than " + std::to_string(opt_.max_points) +
+                         " points (flattened curves counted; raise --tolerance?)");
+    cur_.push_back(p);
+  }
+  void check_point(Vec2 p) const {
+    if (!(std::fabs(p.x) <= kMaxCoordinateMm && std::fabs(p.y) <= kMaxCoordinateMm))
+      fail(element_, "has a point outside +-1000000 mm of the page's origin (or not a number)");
   }
   void close() {
     if (cur_.size() >= 2 && !(cur_.front() == cur_.back())) cur_.push_back(cur_.front());
@@ -605,8 +633,10 @@ class Reader {
     double r_mm = std::max(rx, ry) * ctm.max_scale();
     double step = kPi / 2;
     if (r_mm > opt_.tolerance_mm) step = std::min(step, 2 * std::acos(1 - opt_.tolerance_mm / r_mm));
-    int n = static_cast<int>(std::ceil(std::fabs(dt) / step));
-    n = std::clamp(n, 1, 100000);
+    int n = static_cast<int>(std::clamp(std::ceil(std::fabs(dt) / step), 1.0, 100000.0));
+    if (points_ + static_cast<size_t>(n) > opt_.max_points)  // before a single point is made
+      fail(element_, "makes the drawing more than " + std::to_string(opt_.max_points) +
+                         " points (flattened curves counted; raise --tolerance?)");
     double cp = std::cos(phi), sp = std::sin(phi);
     for (int i = 1; i < n; ++i) {
       double t = t0 + dt * i / n;
@@ -776,7 +806,7 @@ class Reader {
           if (!sc.flag(large)) bad("arc large-arc flag must be 0 or 1");
           if (!sc.flag(sweep)) bad("arc sweep flag must be 0 or 1");
           Vec2 p = pt(rel);
-          if (cur_.empty()) cur_.push_back(ctm.apply(pos));
+          if (cur_.empty()) push(ctm.apply(pos));
           arc(pos, rx, ry, rot, large, sweep, p, ctm);
           pos = p;
           break;
@@ -786,7 +816,7 @@ class Reader {
           pos = start;
           // a drawing command after Z starts a new subpath at the start point
           flush_current();
-          cur_.push_back(ctm.apply(pos));
+          push(ctm.apply(pos));
           break;
         default:
           bad(std::string("unknown path command '") + cmd + "'");
@@ -797,7 +827,7 @@ class Reader {
   }
 
   void curve(Vec2 p0, Vec2 c1, Vec2 c2, Vec2 p, const Affine& ctm) {
-    if (cur_.empty()) cur_.push_back(ctm.apply(p0));
+    if (cur_.empty()) push(ctm.apply(p0));
     cubic(ctm.apply(p0), ctm.apply(c1), ctm.apply(c2), ctm.apply(p));
   }
   void quad(Vec2 p0, Vec2 q, Vec2 p, const Affine& ctm) {
@@ -971,7 +1001,13 @@ class Reader {
       for (const auto& stroke : g.strokes) {
         Polyline pl;
         pl.pts.reserve(stroke.size());
-        for (const Vec2& p : stroke) pl.pts.push_back(ctm.apply(p));
+        for (const Vec2& p : stroke) {
+          const Vec2 q = ctm.apply(p);
+          check_point(q);
+          if (++points_ > opt_.max_points)
+            fail(element_, "makes the drawing more than " + std::to_string(opt_.max_points) + " points");
+          pl.pts.push_back(q);
+        }
         l.lines.push_back(std::move(pl));
       }
     }
@@ -983,7 +1019,7 @@ class Reader {
     const tinyxml2::XMLElement* target = referenced(e);
     if (!target) return;
     Affine path_ctm = ctm;
-    if (const char* t = target->Attribute("transform")) path_ctm = ctm * parse_transform(target, t);
+    if (const char* t = target->Attribute("transform")) path_ctm = compose(target, ctm, parse_transform(target, t));
     std::vector<Vec2> path = user_space_outline(target, path_ctm, ctm);
     if (path.size() < 2) return;
     PositionLists pos;
@@ -1039,7 +1075,7 @@ class Reader {
       if (std::strcmp(local(c->Name()), "flowRegion") != 0) continue;
       for (const tinyxml2::XMLElement* sh = c->FirstChildElement(); sh && !have_box; sh = sh->NextSiblingElement()) {
         Affine sh_ctm = ctm;
-        if (const char* t = sh->Attribute("transform")) sh_ctm = ctm * parse_transform(sh, t);
+        if (const char* t = sh->Attribute("transform")) sh_ctm = compose(sh, ctm, parse_transform(sh, t));
         const std::vector<Vec2> pts = user_space_outline(sh, sh_ctm, ctm);
         if (pts.size() < 3) continue;
         box = {pts[0].x, pts[0].y, pts[0].x, pts[0].y};
@@ -1117,6 +1153,9 @@ class Reader {
   }
 
   void round_shape(const tinyxml2::XMLElement* e, Vec2 c, double r_mm, const Style& style, const std::string* label) {
+    element_ = e;
+    check_point(c);
+    if (!(r_mm <= kMaxCoordinateMm)) fail(e, "has a radius beyond 1000000 mm (or not a number)");
     const bool filled = !style.fill.none && !style.fill.pattern;
     const bool stroked = !style.stroke.none;
     if (filled && stroked && !label && !(style.fill.color == style.stroke.color)) {
@@ -1154,6 +1193,8 @@ class Reader {
   std::map<std::string, LayerInfo> index_;
   std::map<std::string, const tinyxml2::XMLElement*> ids_;
   int use_depth_ = 0;
+  size_t elements_ = 0, points_ = 0;                 // work so far, against the options' caps
+  const tinyxml2::XMLElement* element_ = nullptr;  // the element being drawn, for errors
   size_t missing_glyphs_ = 0;
   std::vector<Vec2> cur_;
   std::vector<Polyline> shape_;

@@ -16,7 +16,9 @@
 //    (one pen touch, as stipplot's own SVG writes its dots); other circles stay circles
 //    when the transform keeps them round.
 // Malformed input (XML errors, bad path data, bad numbers or transforms) throws UserError
-// naming the file, the XML line and the element.
+// naming the file, the XML line and the element; so do points beyond kMaxCoordinateMm of
+// the page's origin, transforms that are not finite or stretch beyond 1e9, and drawings
+// over the caps below.
 #include <string>
 
 #include "geometry/drawing.hpp"
@@ -26,6 +28,10 @@ namespace stipplot {
 struct SvgReadOptions {
   double tolerance_mm = 0.05;          // max distance of a flattened curve from the true one
   double default_pen_width_mm = 0.3;   // when the SVG gives no stroke width
+  // Work caps, checked before the work: elements drawn (each <use> copy counts again, so
+  // nested <use> cannot multiply without end) and points made (flattened curves included).
+  size_t max_elements = 1'000'000;
+  size_t max_points = 5'000'000;
 };
 
 // O(elements + output points); the flattening adds points in proportion to

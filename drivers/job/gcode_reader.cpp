@@ -6,6 +6,8 @@
 #include <limits>
 #include <sstream>
 
+#include "util/error.hpp"
+
 namespace stipplot::io {
 
 namespace {
@@ -139,7 +141,7 @@ Job parse_gcode_job(const std::string& text, const GcodePenRule& rule) {
       pending_label.clear();
     }
     double nx = st.x, ny = st.y, nz = st.z;
-    bool axis = false;
+    bool axis = false, z_word = false;
     double dwell = 0;
     bool is_dwell_line = false;
     for (const GcodeWord& w : gcode_words(line)) {
@@ -166,11 +168,16 @@ Job parse_gcode_job(const std::string& text, const GcodePenRule& rule) {
         case 'Y': ny = modes.absolute ? w.value * modes.scale : st.y + w.value * modes.scale; axis = true; break;
         case 'Z':
           nz = modes.absolute || !std::isfinite(st.z) ? w.value * modes.scale : st.z + w.value * modes.scale;
-          axis = true;
+          axis = z_word = true;
           break;
         default: break;
       }
     }
+    // At the boundary: no number beyond any machine (1 km, a km a minute) or not finite.
+    for (double v : {nx, ny, z_word ? nz : 0.0, st.feed, st.s, dwell})
+      if (!(std::fabs(v) <= 1e6))
+        throw UserError("G-code line " + std::to_string(job.lines.size() + 1) + " `" + line +
+                        "`: a coordinate, feed, S or dwell is not finite or beyond +-1000000 (mm, mm/min, s)");
     if (axis && !is_dwell_line) {
       double dz = std::isfinite(st.z) && std::isfinite(nz) ? nz - st.z : 0;
       double d = std::hypot(nx - st.x, ny - st.y, dz);

@@ -151,6 +151,10 @@ class HpglReader {
 
   // The instruction in a normal form (MN n,n,...;) and what it does to the pen.
   JobLine execute(const std::string& mn, const std::vector<double>& nums) {
+    // At the boundary: no number beyond any plotter (1 km at 40 units a mm) or not finite.
+    for (double v : nums)
+      if (!(std::fabs(v) <= 4e7))
+        throw UserError("HPGL: " + mn + " has a number that is not finite or beyond +-40000000 plotter units (1 km)");
     JobLine jl;
     jl.text = mn;
     for (size_t k = 0; k < nums.size(); ++k) {

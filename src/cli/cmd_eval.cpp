@@ -37,6 +37,8 @@ void register_eval(CLI::App& app) {
   cmd->callback([args] {
     Args& a = *args;
     Placement pl = a.place.resolve();
+    require_range("--sigma (input px)", a.opt.sigma, 0, 1000);
+    require_range("--edge-distance (input px)", a.opt.edge_distance, 0, 100000);
     Image in = load_image(a.input);
     Image pv = load_image(a.preview);
     Image drawn = a.cropped ? pv : crop_to_image(pv, pl.transform(in.width, in.height), in.width, in.height);

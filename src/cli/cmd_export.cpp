@@ -11,6 +11,7 @@
 #include "svg/svg_reader.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
+#include "util/output_paths.hpp"
 #include "util/units.hpp"
 
 namespace stipplot::cli {
@@ -61,14 +62,14 @@ void register_export(CLI::App& app) {
     ExportArgs& a = *args;
     const double tolerance_mm = parse_paper_mm(a.tolerance, "--tolerance");
     const double pen_width_mm = parse_paper_mm(a.pen_width, "--pen-width");
-    require_range("--tolerance", tolerance_mm, 1e-4, 10);
-    require_range("--pen-width", pen_width_mm, 0.01, 20);
+    require_range("--tolerance (mm)", tolerance_mm, 1e-4, 10);
+    require_range("--pen-width (mm)", pen_width_mm, 0.01, 20);
     (void)output_kind(a.output);
     (void)a.plan.resolve();
     check_layout_args(a.layout);
     const DeviceProfile device = find_profile(a.profile);
-    require_writable_dir(a.output);
     if (!a.preview.empty()) require_png_path("--preview", a.preview);
+    check_output_paths({{"input", a.input}}, {{"-o", a.output}, {"--preview", a.preview}});
     SvgReadOptions ro;
     ro.tolerance_mm = tolerance_mm;
     ro.default_pen_width_mm = pen_width_mm;

@@ -32,6 +32,7 @@
 #include "sim/grbl_sim.hpp"
 #include "sim/hpgl_sim.hpp"
 #include "sim/record.hpp"
+#include "util/output_paths.hpp"
 #include "util/progress.hpp"
 
 namespace stipplot::cli {
@@ -60,6 +61,9 @@ struct PlotArgs {
     require_nonnegative("--sim-latency-ms", sim_latency_ms);
     if (pen_change != "ask" && pen_change != "continue" && pen_change != "stop")
       throw UserError("--pen-change must be ask, continue or stop, not '" + pen_change + "'");
+    const auto sim_file = [&](const char* ext) { return sim_out.empty() ? sim_out : sim_out + ext; };
+    check_output_paths({{"input", input}, {"--resume", resume}},
+                       {{"--job", job_out}, {"--sim-out", sim_file(".png")}, {"--sim-out", sim_file(".svg")}});
   }
   void log(const std::string& s) const {
     if (!quiet) std::fprintf(stderr, "stipplot: %s\n", s.c_str());

@@ -34,7 +34,7 @@ void resolve(PointillismArgs& a) {
   // A bare number is pixels here (the paper's r = 3 px); a paper unit asks for a size on paper.
   a.radius_length = Length::parse(a.radius, "--radius", Length::Bare::px);
   if (!(a.radius_length.value > 0)) throw UserError("--radius must be > 0, got '" + a.radius + "'");
-  require_nonnegative("--fidelity-sigma", a.fidelity_sigma);
+  require_range("--fidelity-sigma (input px)", a.fidelity_sigma, 0, 1000);
   if (a.radius_length.in_px) {
     a.p.radius_px = a.radius_length.value;
     a.p.validate();

@@ -2,19 +2,38 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <new>
+#include <string>
 
 #include "cli/commands.hpp"
+#include "util/atomic_file.hpp"
 #include "util/error.hpp"
+
+namespace {
+// CLI11's messages may span lines; the error is one.
+std::string one_line(std::string s) {
+  for (char& c : s)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!s.empty() && s.back() == ' ') s.pop_back();
+  return s;
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"stipplot: turn photographs into drawings for pen plotters, and drive the plotters"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "stipplot 0.1.0");
   stipplot::cli::register_all(app);
+  // Every file a command writes is staged and appears only once the command succeeded;
+  // leaving main any other way removes the temporaries.
+  stipplot::OutputBatch outputs;
   try {
     app.parse(argc, argv);
+    outputs.commit();
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help and --version arrive as ParseErrors with exit code 0: CLI11 prints them.
+    if (e.get_exit_code() == 0) return app.exit(e);
+    std::fprintf(stderr, "stipplot: error: %s (see --help)\n", one_line(e.what()).c_str());
+    return 1;
   } catch (const stipplot::UserError& e) {
     std::fprintf(stderr, "stipplot: error: %s\n", e.what());
     return 1;

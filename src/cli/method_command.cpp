@@ -17,6 +17,7 @@
 #include "svg/svg_writer.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
+#include "util/output_paths.hpp"
 
 namespace stipplot::cli {
 
@@ -210,14 +211,17 @@ void MethodCommand::check_outputs() const {
   const OutputKind kind = output_kind(a.output);
   check_profile_for(kind, a.output, a.profile);
   (void)find_profile(a.profile);
-  (void)a.plan.resolve();
+  (void)a.plan.resolve();  // even for an SVG, which is not planned: no option is silently ignored
   (void)budget::parse_duration(a.time);
-  require_writable_dir(a.output);
   if (!a.preview.empty()) require_png_path("--preview", a.preview);
   require_range("--preview-dpi", a.preview_dpi, 10, 2400);
   if (a.max_pixels == 0) throw UserError("--max-pixels must be at least 1");
-  for (const auto& p : pngs_)
+  std::vector<NamedPath> outputs{{"-o", a.output}, {"--preview", a.preview}};
+  for (const auto& p : pngs_) {
     if (!p->path.empty()) require_png_path(p->option, p->path);
+    outputs.push_back({p->option, p->path});
+  }
+  check_output_paths({{"input", a.input}}, outputs);
 }
 
 namespace {

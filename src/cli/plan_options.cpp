@@ -8,9 +8,9 @@ namespace stipplot::cli {
 PlanOptions PlanArgs::resolve() const {
   PlanOptions o;
   require_range("--optimize-effort", optimize_effort, 0, 1000);
-  require_range("--optimize-seconds", optimize_seconds, 0, 3600);
+  require_range("--optimize-seconds (s)", optimize_seconds, 0, 3600);
   const double join_mm = parse_paper_mm(join_tolerance, "--join-tolerance");
-  require_range("--join-tolerance", join_mm, 0, 10);
+  require_range("--join-tolerance (mm)", join_mm, 0, 10);
   o.optimize_effort = optimize_effort;
   o.optimize_seconds = optimize_seconds;
   o.fill = plan::parse_fill_mode(fill);

@@ -5,6 +5,7 @@
 
 #include "cli/common.hpp"
 #include "svg/svg_reader.hpp"
+#include "util/atomic_file.hpp"
 #include "util/error.hpp"
 
 namespace stipplot::cli {
@@ -78,6 +79,7 @@ PreparedJob prepare_job(const PlotJobRequest& r) {
                          : r.job_out;
   if (!r.job_out.empty()) check_job_name(path, prof);
   write_planned_output(d, path, profile, r.plan, false, plan_summary);
+  commit_staged_outputs();  // streamed from the file
   return {path, hpgl ? io::Dialect::Hpgl : io::Dialect::GCode, prof.name, note};
 }
 

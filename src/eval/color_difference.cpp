@@ -4,6 +4,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "detail/same_size.hpp"
+#include "eval/bounded_blur.hpp"
+#include "util/error.hpp"
 
 namespace stipplot {
 
@@ -11,7 +13,7 @@ namespace {
 cv::Mat lab_blurred(const cv::Mat& rgb8, double sigma) {
   cv::Mat f;
   rgb8.convertTo(f, CV_32FC3, 1.0 / 255);
-  if (sigma > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+  if (sigma > 0) gaussian_blur_bounded(f.clone(), f, sigma, cv::BORDER_REPLICATE);
   cv::Mat lab;
   cv::cvtColor(f, lab, cv::COLOR_RGB2Lab);
   return lab;

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "eval/mark_spacing.hpp"
+#include "eval/bounded_blur.hpp"
 #include "util/error.hpp"
 
 namespace stipplot {
@@ -117,8 +118,8 @@ FidelityResult evaluate_fidelity(const Image& input, const Image& drawn, const F
   cv::Mat dr;
   cv::resize(dr_full, dr, in.size(), 0, 0, cv::INTER_AREA);
   cv::Mat bi, bd;
-  cv::GaussianBlur(in, bi, cv::Size(0, 0), res.sigma);
-  cv::GaussianBlur(dr, bd, cv::Size(0, 0), res.sigma);
+  gaussian_blur_bounded(in, bi, res.sigma, cv::BORDER_DEFAULT);
+  gaussian_blur_bounded(dr, bd, res.sigma, cv::BORDER_DEFAULT);
   res.ssim_blurred = ssim_mat(bi, bd);
 
   // Strong edges of the input: Canny on a lightly smoothed copy.

@@ -4,6 +4,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "detail/same_size.hpp"
+#include "eval/bounded_blur.hpp"
 #include "util/error.hpp"
 
 namespace stipplot {
@@ -40,7 +41,7 @@ cv::Mat blurred_grey(const cv::Mat& rgb8, double sigma) {
     double* o = f.ptr<double>(y);
     for (int x = 0; x < rgb8.cols; ++x) o[x] = (0.299 * p[3 * x] + 0.587 * p[3 * x + 1] + 0.114 * p[3 * x + 2]) / 255.0;
   }
-  if (sigma > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+  if (sigma > 0) gaussian_blur_bounded(f.clone(), f, sigma, cv::BORDER_REPLICATE);
   return f;
 }
 }  // namespace

@@ -10,6 +10,10 @@
 
 namespace stipplot {
 
+// No coordinate of a drawing lies farther than this from the page's origin (1 km): readers
+// refuse more, so the planner's grids and the writers' integer units cannot overflow.
+inline constexpr double kMaxCoordinateMm = 1e6;
+
 struct Vec2 {
   double x = 0, y = 0;
   friend bool operator==(const Vec2&, const Vec2&) = default;

@@ -2,7 +2,10 @@
 
 #include <stb_image.h>
 
+#include <cerrno>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 
@@ -31,32 +34,59 @@ Image Image::from_grey(int w, int h, const std::vector<uint8_t>& grey) {
   return im;
 }
 
-Image load_image(const std::string& path, const LoadOptions& opt) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw UserError(path + ": no such file");
-  if (fs::is_directory(path, ec)) throw UserError(path + ": is a directory, not an image");
-  auto size = fs::file_size(path, ec);
-  if (ec) throw UserError(path + ": cannot read: " + ec.message());
-  if (size == 0) throw UserError(path + ": file is empty");
+namespace {
 
-  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
-  if (!f) throw UserError(path + ": cannot open for reading");
+// The format the first bytes announce, so a damaged file is named for what it is (stb
+// reports only the last decoder it tried: a truncated JPEG would read "bad png sig").
+const char* announced_format(const uint8_t* d, size_t n) {
+  auto starts = [&](const char* magic, size_t len) { return n >= len && std::memcmp(d, magic, len) == 0; };
+  if (starts("\xFF\xD8\xFF", 3)) return "JPEG";
+  if (starts("\x89PNG", 4)) return "PNG";
+  if (starts("BM", 2)) return "BMP";
+  if (starts("GIF8", 4)) return "GIF";
+  return nullptr;
+}
+
+// Formats stb_image would try but stipplot does not read: its PNM decoder reads past the
+// end of a truncated 16-bit file (found by fuzzing), and none of these is a photo format
+// a user needs here.
+const char* refused_format(const uint8_t* d, size_t n) {
+  auto starts = [&](const char* magic, size_t len) { return n >= len && std::memcmp(d, magic, len) == 0; };
+  if (starts("8BPS", 4)) return "PSD";
+  if (starts("#?", 2)) return "HDR";
+  if (starts("S\x80\xF6\x34", 4)) return "PIC";
+  if (n >= 2 && d[0] == 'P' && (d[1] == '5' || d[1] == '6')) return "PNM";
+  return nullptr;
+}
+
+std::string damaged(const std::string& name, const uint8_t* d, size_t n) {
+  const char* format = announced_format(d, n);
+  const char* why = stbi_failure_reason();
+  return name + ": truncated or corrupt " + (format ? std::string(format) + " " : std::string()) + "image" +
+         (why ? std::string(" (decoder: ") + why + ")" : std::string());
+}
+
+}  // namespace
+
+Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, const LoadOptions& opt) {
+  if (size == 0) throw UserError(name + ": file is empty");
+  if (size > static_cast<size_t>(INT32_MAX)) throw UserError(name + ": file is larger than 2 GB");
+  const int len = static_cast<int>(size);
+  if (const char* format = refused_format(bytes, size))
+    throw UserError(name + ": " + format + " images are not read (use PNG, JPEG, BMP, GIF or TGA)");
   int w = 0, h = 0, comp = 0;
-  if (!stbi_info_from_file(f.get(), &w, &h, &comp))
-    throw UserError(path + ": not a readable image (" + stbi_failure_reason() + ")");
-  if (w <= 0 || h <= 0) throw UserError(path + ": image has zero size");
+  if (!stbi_info_from_memory(bytes, len, &w, &h, &comp)) {
+    if (announced_format(bytes, size)) throw UserError(damaged(name, bytes, size));
+    throw UserError(name + ": not a readable image (none of PNG, JPEG, BMP, GIF, TGA)");
+  }
+  if (w <= 0 || h <= 0) throw UserError(name + ": image has zero size");
   uint64_t px = static_cast<uint64_t>(w) * static_cast<uint64_t>(h);
   if (px > opt.max_pixels)
-    throw UserError(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) + " = " + std::to_string(px) +
+    throw UserError(name + ": image is " + std::to_string(w) + "x" + std::to_string(h) + " = " + std::to_string(px) +
                     " pixels, more than the limit of " + std::to_string(opt.max_pixels) + " (raise it with --max-pixels)");
 
-  std::fseek(f.get(), 0, SEEK_SET);
-  unsigned char* data = stbi_load_from_file(f.get(), &w, &h, &comp, 4);
-  if (!data) {
-    std::string why = stbi_failure_reason() ? stbi_failure_reason() : "";
-    throw UserError(path + ": truncated or corrupt image" + (why.empty() ? std::string() : " (decoder: " + why + ")"));
-  }
+  unsigned char* data = stbi_load_from_memory(bytes, len, &w, &h, &comp, 4);
+  if (!data) throw UserError(damaged(name, bytes, size));
   std::unique_ptr<unsigned char, void (*)(void*)> guard(data, &stbi_image_free);
 
   Image im;
@@ -70,6 +100,27 @@ Image load_image(const std::string& path, const LoadOptions& opt) {
       im.rgb[i * 3 + static_cast<size_t>(c)] = static_cast<uint8_t>((p[c] * a + 255u * (255u - a) + 127u) / 255u);
   }
   return im;
+}
+
+Image load_image(const std::string& path, const LoadOptions& opt) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw UserError(path + ": is a directory, not an image");
+  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) {
+    const int err = errno;
+    if (err == ENOENT) throw UserError(path + ": no such file");
+    throw UserError(path + ": cannot read: " + std::strerror(err));
+  }
+  std::vector<uint8_t> bytes;
+  uint8_t buf[1 << 16];
+  size_t got;
+  while ((got = std::fread(buf, 1, sizeof buf, f.get())) > 0) {
+    bytes.insert(bytes.end(), buf, buf + got);
+    if (bytes.size() > static_cast<size_t>(INT32_MAX)) throw UserError(path + ": file is larger than 2 GB");
+  }
+  if (std::ferror(f.get())) throw UserError(path + ": cannot read: " + std::strerror(errno));
+  return decode_image(bytes.data(), bytes.size(), path, opt);
 }
 
 }  // namespace stipplot

@@ -23,10 +23,12 @@ struct LoadOptions {
   uint64_t max_pixels = 100'000'000;  // --max-pixels
 };
 
-// PNG, JPEG, BMP, TGA (and what else stb_image reads). Throws UserError with one line
+// PNG, JPEG, BMP, GIF, TGA (stb_image; its PNM, PSD, HDR and PIC decoders are refused). Throws UserError with one line
 // naming the file and the problem: missing, empty, not an image, truncated, zero size,
 // or more pixels than allowed (checked from the header, before decoding).
 Image load_image(const std::string& path, const LoadOptions& opt = {});
+// The same from the file's bytes; `name` is used in error messages. O(pixels).
+Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, const LoadOptions& opt = {});
 
 // Rec. 601 luma of one RGB triple, rounded.
 inline uint8_t luma601(uint8_t r, uint8_t g, uint8_t b) {

@@ -13,18 +13,18 @@
 namespace stipplot {
 
 void PlanOptions::validate() const {
-  require_nonnegative("--optimize-seconds", optimize_seconds);
-  require_range("join tolerance", join_tolerance_mm, 0, 10);
+  require_nonnegative("--optimize-seconds (s)", optimize_seconds);
+  require_range("join tolerance (mm)", join_tolerance_mm, 0, 10);
   require_range("fill pitch", fill_pitch, 0.05, 1.0);
   require_range("chord tolerance", chord_tolerance_mm, 1e-4, 1);
   require_range("neighbors", neighbors, 1, 64);
   require_range("origin x", origin.x, -1e6, 1e6);
   require_range("origin y", origin.y, -1e6, 1e6);
   require_range("--optimize-effort", optimize_effort, 0, 1000);
-  require_range("--hatch-spacing", hatch_spacing_mm, 0, 1000);
-  require_range("--hatch-angle", hatch_angle_degrees, -360, 360);
-  require_range("--simplify", simplify_mm, 0, 100);
-  require_range("--min-length", min_length_mm, 0, 10000);
+  require_range("--hatch-spacing (mm)", hatch_spacing_mm, 0, 1000);
+  require_range("--hatch-angle (degrees)", hatch_angle_degrees, -360, 360);
+  require_range("--simplify (mm)", simplify_mm, 0, 100);
+  require_range("--min-length (mm)", min_length_mm, 0, 10000);
   require_range("--multipass", passes, 1, 100);
 }
 
@@ -97,22 +97,23 @@ std::vector<PenGroup> group_by_pen(const Drawing& d) {
 
 // Non-finite coordinates would break the kd-trees' ordering and the fills' loops.
 void validate_layer(const Layer& l) {
-  auto finite = [](Vec2 p) { return std::isfinite(p.x) && std::isfinite(p.y); };
+  // Far-off points would overflow the planner's integer grids (and no sheet is a km wide).
+  auto finite = [](Vec2 p) { return std::fabs(p.x) <= kMaxCoordinateMm && std::fabs(p.y) <= kMaxCoordinateMm; };
   if (!(std::isfinite(l.pen.width_mm) && l.pen.width_mm >= 0.01 && l.pen.width_mm <= 100))
     throw UserError("pen '" + l.pen.name + "': width must be between 0.01 and 100 mm");
   for (const Dot& d : l.dots)
     if (!finite(d.c) || !(d.diameter >= 0 && d.diameter <= 1000))
-      throw UserError("pen '" + l.pen.name + "': a dot has a non-finite position or a diameter outside 0..1000 mm");
+      throw UserError("pen '" + l.pen.name + "': a dot lies outside +-1000000 mm or has a diameter outside 0..1000 mm");
   for (const Polyline& pl : l.lines)
     for (const Vec2& p : pl.pts)
-      if (!finite(p)) throw UserError("pen '" + l.pen.name + "': a polyline has a non-finite point");
+      if (!finite(p)) throw UserError("pen '" + l.pen.name + "': a polyline has a point outside +-1000000 mm (or not a number)");
   for (const Circle& c : l.circles)
     if (!finite(c.c) || !(c.r >= 0 && c.r <= 1000))
-      throw UserError("pen '" + l.pen.name + "': a circle has a non-finite centre or a radius outside 0..1000 mm");
+      throw UserError("pen '" + l.pen.name + "': a circle has a centre outside +-1000000 mm or a radius outside 0..1000 mm");
   for (const Area& a : l.areas)
     for (const Polyline& ring : a.rings)
       for (const Vec2& p : ring.pts)
-        if (!finite(p)) throw UserError("pen '" + l.pen.name + "': a filled shape has a non-finite point");
+        if (!finite(p)) throw UserError("pen '" + l.pen.name + "': a filled shape has a point outside +-1000000 mm (or not a number)");
 }
 
 size_t node_count(const Layer& l) {

@@ -71,6 +71,11 @@ namespace {
   throw UserError(std::string(option) + ": expected a length >= 0 such as " + examples + ", got '" +
                   std::string(text) + "'");
 }
+// No length on paper is longer than a km, so none can overflow what it sizes.
+void require_at_most_a_km(double mm, std::string_view text, const char* option) {
+  if (!(mm <= 1e6))
+    throw UserError(std::string(option) + ": " + std::string(text) + " is longer than 1000000 mm (1 km)");
+}
 }  // namespace
 
 Length Length::parse(std::string_view text, const char* option, Bare bare) {
@@ -81,6 +86,7 @@ Length Length::parse(std::string_view text, const char* option, Bare bare) {
   if (!split_number_unit(text, v, unit) || !std::isfinite(v) || v < 0) bad_length(text, option, examples);
   Length l;
   if (unit == "px" || (unit.empty() && bare == Bare::px)) {
+    if (!(v <= 1e6)) throw UserError(std::string(option) + ": " + std::string(text) + " is more than 1000000 px");
     l.in_px = true;
     l.value = v;
     return l;
@@ -88,6 +94,7 @@ Length Length::parse(std::string_view text, const char* option, Bare bare) {
   const double f = mm_per_unit(unit);
   if (f == 0) bad_length(text, option, examples);
   l.value = v * f;
+  require_at_most_a_km(l.value, text, option);
   return l;
 }
 
@@ -98,6 +105,7 @@ double parse_paper_mm(std::string_view text, const char* option) {
   if (!split_number_unit(text, v, unit) || !std::isfinite(v) || v < 0) bad_length(text, option, examples);
   const double f = mm_per_unit(unit);
   if (f == 0) bad_length(text, option, examples);
+  require_at_most_a_km(v * f, text, option);
   return v * f;
 }
 

@@ -307,6 +307,15 @@ TEST_CASE("non-finite drawings are user errors, not crashes", "[plan]") {
   d.layers[0].lines.push_back({{{0, 0}, {1, std::nan("")}}});
   CHECK_THROWS_AS(plan_drawing(d, PlanOptions{}), UserError);
   d.layers[0].lines.clear();
+  // Finite but far off: once a segfault in the kd-tree, and signed overflow in the vertex grid.
+  for (double far : {1.7e308, 1e18, -2e6}) {
+    d.layers[0].circles.push_back({{20, far}, 10, false});
+    CHECK_THROWS_WITH(plan_drawing(d, PlanOptions{}), Catch::Contains("outside +-1000000 mm"));
+    d.layers[0].circles.clear();
+    d.layers[0].lines.push_back({{{0, 0}, {far, 1}}});
+    CHECK_THROWS_WITH(plan_drawing(d, PlanOptions{}), Catch::Contains("outside +-1000000 mm"));
+    d.layers[0].lines.clear();
+  }
   d.layers[0].pen.width_mm = 0.01;
   d.layers[0].circles.push_back({{500, 500}, 1000, true});  // millions of passes
   CHECK_THROWS_AS(plan_drawing(d, PlanOptions{}), UserError);

@@ -42,7 +42,7 @@ void TreeParams::validate() const {
   require_range("--h", h, 0, 1e9);
   require_range("--sigma", sigma, 0, 100);
   require_range("--dt-gain", dt_gain, 0, 1e4);
-  if (variant.cross) edges.validate();
+  edges.validate();  // checked even when unused: a bad option is an error, never ignored
 }
 
 void TerrainParams::validate() const {

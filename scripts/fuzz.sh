@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer targets (fuzz/) with Debian's clang-14 under AddressSanitizer and
+# UndefinedBehaviorSanitizer (float-cast-overflow included) and runs each for
+# FUZZ_SECONDS (default 15; six targets, 90 s in all) from its seed corpus,
+# tests/fuzz/corpus/<target>/ (copied: the tracked seeds stay as they are). Prints each
+# target's executions; a crash, leak, timeout or memory blow-up fails the script and
+# leaves its input in build-fuzz/crashes/<target>/: copy it to tests/fuzz/crashes/<target>/,
+# where the replay test (tests/fuzz/test_fuzz_replay.cpp) keeps it as a regression test.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+secs=${FUZZ_SECONDS:-15}
+dir=${FUZZ_BUILD_DIR:-build-fuzz}
+gen=()
+command -v ninja >/dev/null && gen=(-G Ninja)
+CC=clang-14 CXX=clang++-14 cmake -S . -B "$dir" "${gen[@]}" -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" \
+  -DSTIPPLOT_FUZZ=ON -DSTIPPLOT_BENCH=OFF >/dev/null
+cmake --build "$dir" -j "$(nproc)" --target fuzz_all
+status=0
+for t in svg gcode hpgl profile palette image; do
+  work="$dir/corpus/$t"
+  rm -rf "$work" "$dir/crashes/$t"
+  mkdir -p "$work" "$dir/crashes/$t"
+  cp tests/fuzz/corpus/"$t"/* "$work"/
+  log="$dir/fuzz_$t.log"
+  if ! "$dir/fuzz/fuzz_$t" "$work" -max_total_time="$secs" -print_final_stats=1 -timeout=10 -rss_limit_mb=2048 \
+      -max_len=65536 -artifact_prefix="$dir/crashes/$t/" >"$log" 2>&1; then
+    status=1
+    echo "fuzz $t: FAILED, input in $dir/crashes/$t/ ($(ls "$dir/crashes/$t" | head -1)); see $log"
+    grep -m3 -E "ERROR|runtime error|SUMMARY" "$log" || true
+    continue
+  fi
+  execs=$(grep -m1 'stat::number_of_executed_units' "$log" | awk '{print $2}')
+  corpus=$(ls "$work" | wc -l)
+  echo "fuzz $t: $execs executions in ${secs} s, corpus $corpus inputs, 0 crashes"
+done
+exit $status

@@ -1,0 +1,14 @@
+#pragma once
+// A Gaussian blur whose cost does not grow with sigma: OpenCV's kernel is about 6 sigma
+// wide, so sigma = 10^6 on a 1 x 10^6 image is 10^12 operations. Past kDirectSigma the
+// image is shrunk (area average) until the blur is kDirectSigma px, blurred, and enlarged
+// back; at such widths the result is smooth, so the detour changes it by well under a
+// grey level. O(pixels x min(sigma, kDirectSigma)).
+#include <opencv2/core.hpp>
+
+namespace stipplot {
+
+inline constexpr double kDirectSigma = 32;
+void gaussian_blur_bounded(const cv::Mat& in, cv::Mat& out, double sigma, int border);
+
+}  // namespace stipplot

@@ -1,0 +1,11 @@
+G20 G91
+G0 X1 Y1 F1000
+M3 S1000
+G1 X2 Y-1 (comment)
+; comment
+G2 X1 Y1 I1 J0
+G4 P0.5
+$H
+%
+M5
+G90 G21 X0Y0
