@@ -13,6 +13,7 @@ void register_all(CLI::App& app) {
   register_devices(app);
   register_sim(app);
   register_plot(app);
+  register_serve(app);
 }
 
 }  // namespace stipplot::cli
