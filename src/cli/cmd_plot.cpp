@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iostream>
 #include <algorithm>
+#include <cctype>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -74,6 +75,37 @@ std::string read_file(const std::string& path) {
   return ss.str();
 }
 
+bool is_m0_word(const std::string& upper) {
+  return upper.rfind("M0", 0) == 0 && (upper.size() == 2 || !std::isdigit(static_cast<unsigned char>(upper[2])) ||
+                                      (upper[2] == '0' && (upper.size() == 3 || !std::isdigit(static_cast<unsigned char>(upper[3])))));
+}
+
+std::vector<std::string> m0_messages_of(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t start = line.find_first_not_of(" \t");
+    if (start == std::string::npos) continue;
+    std::string upper = line.substr(start, 4);
+    for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    if (!is_m0_word(upper)) continue;
+    const size_t open = line.find('('), close = line.rfind(')');
+    std::string msg = open != std::string::npos && close != std::string::npos && close > open
+                          ? line.substr(open + 1, close - open - 1) : "";
+    if (msg.rfind("MSG,", 0) == 0) msg = msg.substr(4);
+    out.push_back(msg);
+  }
+  return out;
+}
+
+// How many M0s the job passes before line `start` (where a resumed plot begins).
+size_t m0_before(const io::Job& job, size_t start) {
+  size_t n = 0;
+  for (size_t i = 0; i < start && i < job.lines.size(); ++i) n += is_m0_word(job.lines[i].text.substr(0, 4));
+  return n;
+}
+
 std::string hex(uint64_t v) {
   char b[24];
   std::snprintf(b, sizeof b, "%016llx", static_cast<unsigned long long>(v));
@@ -92,6 +124,9 @@ struct PlotJob {
   DeviceProfile device;
   io::GcodePenRule pen_rule;
   io::Job job;
+  // What each M0 of the job asks for, in order, from its comment ("Change pen: pen 2
+  // magenta #ec008c"; empty where it says nothing): the streamer sees only "M0".
+  std::vector<std::string> m0_messages;
   bool grbl() const { return prepared.dialect == io::Dialect::GCode; }
   size_t start() const { return resuming ? static_cast<size_t>(resume_state.last_acked + 1) : 0; }
 };
@@ -127,6 +162,7 @@ PlotJob load_job(PlotArgs& A) {
   pj.device = plot_profile(pj.prepared.profile.empty() ? A.profile : pj.prepared.profile, pj.prepared.dialect);
   pj.pen_rule = gcode_pen_rule(pj.device);
   pj.job = pj.grbl() ? io::parse_gcode_job(text, pj.pen_rule) : io::parse_hpgl_job(text);
+  if (pj.grbl()) pj.m0_messages = m0_messages_of(text);
   if (pj.job.lines.empty()) throw UserError("job " + path + " has no lines to plot");
   apply_overrides(A, pj.device, pj.grbl());
   return pj;
@@ -293,7 +329,11 @@ io::StreamResult run_grbl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
   o.skip_errors = A.skip_errors;
   o.unlock = A.unlock;
   o.log = [&A](const std::string& s) { A.log(s); };
-  o.on_pause_m0 = [&A](const std::string& line) { return ask_pen_change(A, line); };
+  o.on_pause_m0 = [&A, &pj, k = m0_before(job, pj.start())](const std::string& line) mutable {
+    const std::string named = k < pj.m0_messages.size() && !pj.m0_messages[k].empty() ? line + " (" + pj.m0_messages[k] + ")" : line;
+    ++k;
+    return ask_pen_change(A, named);
+  };
   io::grbl::Streamer st(port, o);
   st.connect();
   for (const auto& w : st.check_settings(st.read_settings(), io::grbl::expectations_for(job))) A.log("warning: " + w);

@@ -157,7 +157,7 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
   std::vector<std::string> argv = method_argv(s, input, stem + ".svg", false);
   for (const char* a : {"--preview", "", "--preview-dpi", "", "--json"}) argv.push_back(a);
   argv[argv.size() - 4] = stem + ".png";
-  argv[argv.size() - 2] = draft ? "100" : "150";
+  argv[argv.size() - 2] = draft ? "80" : "150";  // a draft only has to look right on screen
   auto made = run_for_preview(gen, argv);
   if (!made) return {{"superseded", true}};
   if (made->exit_code != 0) throw RequestError(400, error_line(*made));
@@ -168,7 +168,7 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
   std::vector<std::string> plan = {cfg.executable, "export", stem + ".svg", "-o", job, "--profile", profile, "--json"};
   const auto plan_opts = option_args(s, cfg.methods, {"Planning", "Paths"});
   plan.insert(plan.end(), plan_opts.begin(), plan_opts.end());
-  if (draft) plan.push_back("--optimize-seconds=0.2");  // a quick plan while dragging: the estimate only
+  if (draft) plan.push_back("--optimize-seconds=0");  // the greedy plan while dragging: an estimate a little high
   std::vector<std::string> eval = {cfg.executable, "eval", input, stem + ".png", "--json"};
   for (const char* o : {"--page", "--margin", "--pen-width"})
     if (s.has(o)) eval.push_back(std::string(o) + "=" + s.value_of(o, ""));

@@ -23,7 +23,7 @@ struct StudioConfig {
   std::string default_profile = "grbl-servo";
   uint64_t max_upload_bytes = 64ull << 20;
   uint64_t max_pixels = 50'000'000;    // the CLI's --max-pixels check, on every upload
-  uint64_t draft_pixels = 1'000'000;   // the reduced photo previewed while a control moves
+  uint64_t draft_pixels = 500'000;     // the reduced photo previewed while a control moves
   double sim_speedup = 20;
   // The ports a plotter could be on (what `stipplot devices` finds plausible).
   std::function<std::vector<std::string>()> list_ports;

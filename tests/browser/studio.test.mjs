@@ -25,7 +25,7 @@ const deadline = setTimeout(() => { console.error('FAIL the browser test took ov
 
 const work = mkdtempSync(join(tmpdir(), 'stipplot-studio-'));
 const profile = mkdtempSync(join(tmpdir(), 'stipplot-chromium-'));
-const server = spawn(stipplot, ['serve', '--port', '0', '--sim-speedup', '10'], { cwd: work, stdio: ['ignore', 'pipe', 'inherit'] });
+const server = spawn(stipplot, ['serve', '--port', '0', '--sim-speedup', '30'], { cwd: work, stdio: ['ignore', 'pipe', 'inherit'] });
 const url = await new Promise((resolve, reject) => {
   let out = '';
   server.stdout.on('data', (d) => { out += d; const m = out.match(/open (http:\/\/\S+)/); if (m) resolve(m[1]); });
@@ -96,7 +96,6 @@ try {
   await page.waitForFunction(() => document.body.dataset.plotStatus === 'plotting');
   await page.waitForFunction(() => document.body.dataset.plotStatus === 'done', null, { timeout: 180_000 });
   check((await page.textContent('#p-msg')).startsWith('Plotted'), 'the page reports the finished plot: ' + await page.textContent('#p-msg'));
-  if (shots) await page.screenshot({ path: join(shots, 'studio-done.png') });
 
   // The same settings through the CLI: the simulator's record must be the same.
   const state = await (await fetch(new URL('/api/state', url))).json();

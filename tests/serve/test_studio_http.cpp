@@ -3,6 +3,7 @@
 #include <httplib.h>
 
 #include <catch2/catch.hpp>
+#include <functional>
 #include <thread>
 
 #include "cli/commands.hpp"
@@ -196,4 +197,58 @@ TEST_CASE("serve http: a photo previews and plots on the simulator as the CLI do
   // A second start while nothing runs is fine; the trace names every drawn line.
   const json trace = json::parse(cl.Get("/api/plot/trace?port=sim")->body);
   CHECK(trace["segments"].size() > 100);
+}
+
+namespace {
+json wait_for_plot(httplib::Client& cl, const std::function<bool(const json&)>& until) {
+  json st;
+  for (int i = 0; i < 1200; ++i) {
+    st = json::parse(cl.Get("/api/state")->body)["plots"]["sim"];
+    if (until(st)) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return st;
+}
+}  // namespace
+
+TEST_CASE("serve http: a plot asks for each pen by name, and an aborted one resumes from its journal", "[serve]") {
+  test::TempDir dir;
+  RunningStudio s(config(dir));
+  auto cl = s.client();
+  REQUIRE(cl.Post("/api/photo", read_all(std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png"), "image/png")->status == 200);
+  REQUIRE(cl.Post("/api/preview", R"({"method":"stipple","options":{"--method":"cmyk","-b":"40"}})", "application/json")->status == 200);
+  REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 200);
+  CHECK(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 409);  // one plot per device
+  json st = wait_for_plot(cl, [](const json& j) { return j["status"] == "pen_change" || j["status"] == "done"; });
+  REQUIRE(st["status"] == "pen_change");
+  CHECK(st["pen_change"].get<std::string>().find("pen 2 magenta") != std::string::npos);
+  CHECK(cl.Post("/api/plot/pause", R"({"port":"sim"})", "application/json")->status == 409);  // waiting for the pen
+  REQUIRE(cl.Post("/api/plot/continue", R"({"port":"sim"})", "application/json")->status == 200);
+  st = wait_for_plot(cl, [](const json& j) { return j["status"] == "pen_change" && j["pen_change"].get<std::string>().find("yellow") != std::string::npos; });
+  REQUIRE(st["status"] == "pen_change");
+  // Abort at the yellow pen: the journal keeps what was done, and the plot goes on from it.
+  REQUIRE(cl.Post("/api/plot/abort", R"({"port":"sim"})", "application/json")->status == 200);
+  st = wait_for_plot(cl, [](const json& j) { return j["status"] == "stopped" || j["status"] == "done"; });
+  REQUIRE(st["status"] == "stopped");
+  CHECK(st["can_resume"] == true);
+  CHECK(st["message"].get<std::string>().find("--resume") != std::string::npos);
+  const auto done_before = st["lines_acked"].get<size_t>();
+  REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim","resume":true})", "application/json")->status == 200);
+  // The resumed job asks for the pens still to come (yellow again if the abort came before
+  // its M0 was acknowledged, then black), by name.
+  std::vector<std::string> asked;
+  for (int i = 0; i < 3; ++i) {
+    st = wait_for_plot(cl, [](const json& j) { return j["status"] != "plotting"; });
+    if (st["status"] != "pen_change") break;
+    asked.push_back(st["pen_change"]);
+    REQUIRE(cl.Post("/api/plot/continue", R"({"port":"sim"})", "application/json")->status == 200);
+  }
+  INFO(st.dump());
+  REQUIRE_FALSE(asked.empty());
+  CHECK(asked.back().find("pen 4 black") != std::string::npos);
+  REQUIRE(st["status"] == "done");
+  CHECK(st["resumed"] == true);
+  // It went on from the journal: fewer lines than the job has, none twice.
+  CHECK(done_before > 0);
+  CHECK(st["result"]["lines_acked"].get<size_t>() < st["lines"].get<size_t>());
 }

@@ -214,6 +214,9 @@ async function upload(file) {
     const res = await api('/api/photo', { method: 'POST', headers: { 'Content-Type': file.type || 'application/octet-stream', 'X-Filename': file.name.replace(/[^\x20-\x7e]/g, '_') }, body: file });
     photo = await jsonOf(res);
     showPhoto();
+    // A landscape photo lies across the page, as the CLI's --landscape lays it.
+    const landscape = document.querySelector('#controls .opt[data-name="--landscape"]');
+    if (landscape) landscape.checked = photo.width > photo.height;
     runPreview(false);
   } catch (e) {
     $('photo-info').textContent = 'Not taken: ' + e.message;
@@ -241,6 +244,7 @@ function setView(v) {
   $('tab-preview').classList.toggle('on', v === 'preview');
   $('tab-plot').classList.toggle('on', v === 'plot');
   $('plotcanvas').style.display = v === 'plot' ? 'block' : 'none';
+  $('pencanvas').style.display = v === 'plot' ? 'block' : 'none';
   $('preview').style.visibility = v === 'plot' ? 'hidden' : 'visible';
 }
 
@@ -267,19 +271,22 @@ function traceTransform() {
 function strokeSegments(ctx, tf, from, to, style, width) {
   ctx.strokeStyle = style; ctx.fillStyle = style; ctx.lineWidth = width; ctx.lineCap = 'round';
   ctx.beginPath();
+  const dots = new Path2D();
   for (let i = from; i < to; i++) {
     const [, a, b, c2, d] = trace.segments[i];
     const [px, py] = tf(a, b), [qx, qy] = tf(c2, d);
+    if (qx === px && qy === py) { dots.moveTo(px + width * 1.2, py); dots.arc(px, py, width * 1.2, 0, 2 * Math.PI); continue; }
     ctx.moveTo(px, py);
-    ctx.lineTo(qx === px && qy === py ? qx + 0.01 : qx, qy);
+    ctx.lineTo(qx, qy);
   }
   ctx.stroke();
+  ctx.fill(dots);
 }
 function drawTraceBase() {
   const c = $('plotcanvas'), ctx = c.getContext('2d');
   ctx.fillStyle = '#fff'; ctx.fillRect(0, 0, c.width, c.height);
   trace.tf = traceTransform();
-  strokeSegments(ctx, trace.tf, 0, trace.segments.length, 'rgba(100,116,139,0.22)', 1.4);
+  strokeSegments(ctx, trace.tf, 0, trace.segments.length, 'rgba(100,116,139,0.30)', 1.5);
 }
 function drawTraceUpTo(linesAcked) {
   if (!trace) return;
@@ -288,6 +295,16 @@ function drawTraceUpTo(linesAcked) {
   while (end < trace.segments.length && trace.segments[end][0] < linesAcked) end++;
   if (end > drawnUpTo) strokeSegments(ctx, trace.tf, drawnUpTo, end, '#0f172a', 1.6);
   drawnUpTo = end;
+  // Where the pen is: a ring over the last mark on the paper (an overlay canvas keeps
+  // the drawing underneath intact).
+  const ring = $('pencanvas'), rctx = ring.getContext('2d');
+  ring.width = $('plotcanvas').width; ring.height = $('plotcanvas').height;
+  if (drawnUpTo > 0 && drawnUpTo < trace.segments.length) {
+    const [, , , x, y] = trace.segments[drawnUpTo - 1];
+    const [px, py] = trace.tf(x, y);
+    rctx.strokeStyle = '#0d9488'; rctx.lineWidth = 2.5;
+    rctx.beginPath(); rctx.arc(px, py, 9, 0, 2 * Math.PI); rctx.stroke();
+  }
 }
 
 function showPlot(st) {
@@ -311,7 +328,14 @@ function showPlot(st) {
   else if (st && s === 'preparing') msg = 'Making the job at full size…';
   $('p-msg').textContent = msg;
   $('pen-prompt').style.display = s === 'pen_change' ? 'block' : 'none';
-  if (s === 'pen_change') $('pen-line').textContent = st.pen_change;
+  if (s === 'pen_change') {
+    // "M0 (MSG,Change pen: pen 2 magenta #ec008c)": the pen named, as on the terminal.
+    const m = /Change pen:\s*([^)]*)/.exec(st.pen_change);
+    const named = m ? m[1].trim() : st.pen_change;
+    const colour = /#[0-9a-f]{6}/i.exec(named);
+    $('pen-line').textContent = named;
+    $('pen-swatch').style.background = colour ? colour[0] : 'transparent';
+  }
   const busy = plotBusy();
   $('plot-start').disabled = busy || !photo || document.body.dataset.previewDraft !== '0';
   $('plot-pause').disabled = s !== 'plotting';
