@@ -135,6 +135,8 @@ struct Studio::Impl {
 
   json preview(const Settings& s, bool draft);
   void routes();
+  void guard_routes();
+  void file_routes();
   void photo_route();
   void plot_routes();
   std::shared_ptr<PlotSession> session_for(const httplib::Request& req);
@@ -236,7 +238,9 @@ int Studio::port() const { return impl_->bound_port; }
 void Studio::run() { impl_->server.listen_after_bind(); }
 void Studio::stop() { impl_->server.stop(); }
 
-void Studio::Impl::routes() {
+// Limits, security headers and the guard, which every request passes before any handler
+// (and before its body is used).
+void Studio::Impl::guard_routes() {
   server.set_payload_max_length(cfg.max_upload_bytes);
   server.set_default_headers({{"X-Content-Type-Options", "nosniff"},
                               {"X-Frame-Options", "DENY"},
@@ -266,6 +270,10 @@ void Studio::Impl::routes() {
       send_error(res, 500, e.what());
     }
   });
+}
+
+void Studio::Impl::routes() {
+  guard_routes();
   server.Get("/", [this](const httplib::Request& req, httplib::Response& res) {
     // The printed address carries the token once; the page's own requests then carry it
     // as a cookie no other site's request gets (SameSite=Strict).
@@ -287,6 +295,26 @@ void Studio::Impl::routes() {
                     {"max_upload_bytes", cfg.max_upload_bytes},
                     {"max_pixels", cfg.max_pixels}});
   });
+  server.Post("/api/preview", [this](const httplib::Request& req, httplib::Response& res) {
+    const json body = parse_body(req);
+    const Settings s = parse_settings(body, cfg.methods);
+    json out = preview(s, body.value("draft", false));
+    send_json(res, out, out.contains("superseded") ? 409 : 200);
+  });
+  server.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
+    std::lock_guard<std::mutex> lock(m);
+    json plots_json = json::object();
+    for (const auto& [port, session] : plots) plots_json[port] = session->state();
+    send_json(res, {{"photo", photo ? photo->to_json() : json(nullptr)}, {"preview", last_preview}, {"plots", plots_json}});
+  });
+  photo_route();
+  file_routes();
+  plot_routes();
+}
+
+// The working folder's files (previews, simulator records) and the downloads, each made
+// at full size by the command line the page shows.
+void Studio::Impl::file_routes() {
   server.Get(R"(/files/(.+))", [this](const httplib::Request& req, httplib::Response& res) {
     const auto p = resolve_inside(cfg.workdir, req.matches[1].str());
     if (!p) return send_error(res, 403, "that path is outside the studio's working folder");
@@ -295,12 +323,6 @@ void Studio::Impl::routes() {
     std::ostringstream ss;
     ss << in.rdbuf();
     res.set_content(ss.str(), content_type_of(*p));
-  });
-  server.Post("/api/preview", [this](const httplib::Request& req, httplib::Response& res) {
-    const json body = parse_body(req);
-    const Settings s = parse_settings(body, cfg.methods);
-    json out = preview(s, body.value("draft", false));
-    send_json(res, out, out.contains("superseded") ? 409 : 200);
   });
   server.Get(R"(/api/download/(svg|gcode|hpgl))", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string kind = req.matches[1].str();
@@ -329,14 +351,6 @@ void Studio::Impl::routes() {
     res.set_header("Content-Disposition", "attachment; filename=\"" + fs::path(input).stem().string() + "-" + s.method + "." + kind + "\"");
     res.set_content(ss.str(), kind == "svg" ? "image/svg+xml" : "text/plain");
   });
-  server.Get("/api/state", [this](const httplib::Request&, httplib::Response& res) {
-    std::lock_guard<std::mutex> lock(m);
-    json plots_json = json::object();
-    for (const auto& [port, session] : plots) plots_json[port] = session->state();
-    send_json(res, {{"photo", photo ? photo->to_json() : json(nullptr)}, {"preview", last_preview}, {"plots", plots_json}});
-  });
-  photo_route();
-  plot_routes();
 }
 
 void Studio::Impl::photo_route() {
