@@ -10,6 +10,7 @@
 
 #include "methods/sketch/redistribution.hpp"
 #include "methods/sketch/sketch.hpp"
+#include "photo_12mp.hpp"
 #include "preview/preview.hpp"
 #include "ratio_reporter.hpp"
 #include "svg/svg_writer.hpp"
@@ -20,23 +21,7 @@ namespace {
 using namespace stipplot;
 namespace fs = std::filesystem;
 
-const std::string& photo_12mp() {
-  static const std::string path = [] {
-    const std::string out = (fs::temp_directory_path() / "stipplot_bench_coffee_12mp.png").string();
-    if (!fs::exists(out)) {
-      Image src = load_image((fs::path(__FILE__).parent_path().parent_path() / "examples" / "coffee.png").string());
-      Image big;
-      big.width = 4243;
-      big.height = 2828;  // 12.0 Mpx, 3:2
-      big.rgb.resize(big.pixels() * 3);
-      cv::Mat s(src.height, src.width, CV_8UC3, src.rgb.data()), d(big.height, big.width, CV_8UC3, big.rgb.data());
-      cv::resize(s, d, d.size(), 0, 0, cv::INTER_CUBIC);
-      write_png(big, out);
-    }
-    return out;
-  }();
-  return path;
-}
+using bench::photo_12mp;
 
 void photo_to_svg(benchmark::State& state, sketch::SketchParams::Sampler sampler) {
   const std::string in = photo_12mp();

@@ -8,19 +8,28 @@ PKGS=(
   libcli11-dev libtomlplusplus-dev libnanoflann-dev libbenchmark-dev nlohmann-json3-dev
   libhersheyfont-dev hershey-fonts-data zlib1g-dev
   clang-14 libclang-rt-14-dev  # the libFuzzer targets (scripts/fuzz.sh)
+  libcpp-httplib-dev  # `stipplot serve`
+  chromium            # not built against: the studio's browser test drives it headless
   inkscape  # not built against: its example drawings (/usr/share/inkscape/examples) are test inputs
 )
+# The browser test's driver (playwright-core, tests/browser) comes from npm.
+command -v npm >/dev/null 2>&1 || PKGS+=(nodejs npm)
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#PKGS[@]} packages present"
-  exit 0
+else
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-echo "setup: installing ${missing[*]}"
-SUDO=""
-[ "$(id -u)" -eq 0 ] || SUDO="sudo"
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+# playwright-core as the lock file pins it (no browser download: it drives /usr/bin/chromium).
+browser_dir="$(dirname "$0")/../tests/browser"
+if ! cmp -s "$browser_dir/package-lock.json" "$browser_dir/node_modules/.installed-lock.json" 2>/dev/null; then
+  (cd "$browser_dir" && npm ci --no-audit --no-fund --loglevel=error && cp package-lock.json node_modules/.installed-lock.json)
+fi

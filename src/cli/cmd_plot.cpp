@@ -9,7 +9,11 @@
 #include <fstream>
 #include <iostream>
 #include <algorithm>
+#include <cctype>
+#include <condition_variable>
 #include <memory>
+#include <mutex>
+#include <thread>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -48,6 +52,7 @@ struct PlotArgs {
   LayoutArgs layout;  // an SVG's layout on the profile's sheet
   bool page_given = false, flow_given = false, handshake_given = false, rx_buffer_given = false;
   bool sim = false, check = false, json = false, quiet = false, skip_errors = false, unlock = false, newline = false;
+  bool control = false;  // driven by another program through stdin (stipplot serve)
   std::string stream = "counting", handshake = "escb", flow = "none", pen_change = "ask";
   int baud = 0, rx_buffer = 128;
   double sim_speedup = 20, sim_baud = 115200, sim_latency_ms = 2;
@@ -182,12 +187,59 @@ PlotLink open_link(const PlotArgs& A, const PlotJob& pj) {
   return link;
 }
 
+// --control: another program steers the plot with lines on standard input ("pause",
+// "resume", "abort"), and answers pen changes ("continue" or "abort") that are announced
+// as {"pen_change": LINE} on stderr. Standard input is read on its own thread, which
+// only sets the streamer's atomic controls or hands over the answer.
+class PlotControl {
+ public:
+  void start(io::StreamControls& controls) {
+    std::thread([this, &controls] {
+      std::string line;
+      char c;
+      while (::read(STDIN_FILENO, &c, 1) == 1) {
+        if (c != '\n') {
+          line += c;
+          continue;
+        }
+        if (line == "pause") controls.pause = true;
+        else if (line == "resume") controls.resume = true;
+        else if (line == "abort") controls.abort = true;
+        if (line == "continue" || line == "abort") answer(line == "continue");
+        line.clear();
+      }
+      answer(false);  // the controller went away: a waiting pen change is not confirmed
+    }).detach();      // blocked in read() until the process ends
+  }
+  // Announces a pen change and waits for the controller's answer.
+  bool ask_pen_change(const std::string& job_line) {
+    std::unique_lock<std::mutex> lock(m_);
+    answered_ = false;
+    std::fprintf(stderr, "%s\n", nlohmann::json({{"pen_change", job_line}}).dump().c_str());
+    cv_.wait(lock, [this] { return answered_; });
+    return answer_;
+  }
+
+ private:
+  void answer(bool go_on) {
+    std::lock_guard<std::mutex> lock(m_);
+    answered_ = true;
+    answer_ = go_on;
+    cv_.notify_all();
+  }
+  std::mutex m_;
+  std::condition_variable cv_;
+  bool answered_ = false, answer_ = false;
+};
+PlotControl g_control;  // lives as long as its reader thread: the whole process
+
 // The progress bar and JSON progress lines; Ctrl-C pauses (feed hold, pen lifted) at
 // the streamer's next step, and the next report asks whether to resume or abort.
 class PlotProgress {
  public:
   PlotProgress(const PlotArgs& A, size_t lines) : A_(A), bar_("plot", lines, !A.quiet && !A.json) {
     std::signal(SIGINT, on_plot_sigint);
+    if (A.control) g_control.start(controls);
   }
   io::StreamControls controls;
 
@@ -195,7 +247,9 @@ class PlotProgress {
     bar_.set_eta_hint(p.eta_s);
     bar_.set_suffix(std::to_string(p.lines_acked) + "/" + std::to_string(p.lines_total) + " lines " + p.state);
     bar_.update(p.lines_acked);
-    if (A_.json && !A_.quiet && std::chrono::steady_clock::now() - last_json_ > std::chrono::seconds(1)) {
+    // A controlling program draws the progress as it goes: five lines a second.
+    const auto every = A_.control ? std::chrono::milliseconds(200) : std::chrono::milliseconds(1000);
+    if (A_.json && !A_.quiet && std::chrono::steady_clock::now() - last_json_ > every) {
       last_json_ = std::chrono::steady_clock::now();
       nlohmann::json j = {{"progress", p.lines_total ? double(p.lines_acked) / double(p.lines_total) : 1.0},
                           {"lines_acked", p.lines_acked}, {"lines_sent", p.lines_sent}, {"lines", p.lines_total},
@@ -257,7 +311,7 @@ void announce_pens(const PlotArgs& A, const PlotJob& pj) {
   if (pauses.empty()) return;
   A.log("the job pauses " + std::to_string(pauses.size()) + " time(s) for the operator; first at line " +
         std::to_string(pauses[0] + 1) + ": " + pj.job.lines[pauses[0]].note);
-  if (A.pen_change == "ask" && !A.sim && !stdin_tty())
+  if (A.pen_change == "ask" && !A.sim && !A.control && !stdin_tty())
     throw UserError("the job pauses " + std::to_string(pauses.size()) + " time(s) for a pen change (first: " +
                     pj.job.lines[pauses[0]].note +
                     ") and stdin is not a terminal to ask: pass --pen-change continue (go on at every pause) or "
@@ -268,7 +322,10 @@ void announce_pens(const PlotArgs& A, const PlotJob& pj) {
 // simulator has no operator: it goes on).
 io::PauseAnswer answer_pause(const PlotArgs& A, const io::PauseRequest& p) {
   A.log("pause at line " + std::to_string(p.line + 1) + ": " + p.note);
-  if (A.pen_change == "continue" || (A.pen_change == "ask" && A.sim)) return io::PauseAnswer::go;
+  if (A.pen_change == "continue") return io::PauseAnswer::go;
+  // A controlling program (the studio) has an operator even on the simulator.
+  if (A.control) return g_control.ask_pen_change(p.note) ? io::PauseAnswer::go : io::PauseAnswer::stop;
+  if (A.pen_change == "ask" && A.sim) return io::PauseAnswer::go;
   if (A.pen_change == "stop" || !stdin_tty()) return io::PauseAnswer::stop_after;
   std::fprintf(stderr, "\n%s. Press Enter when done (or type a to abort) ", p.note.c_str());
   std::string answer;
@@ -438,6 +495,8 @@ void register_plot(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "One-line JSON summary on stdout; JSON progress lines on stderr");
   cmd->add_flag("-q,--quiet", a->quiet, "No progress bar or notes");
+  cmd->add_flag("--control", a->control,
+                "Steered by a program: stdin lines pause|resume|abort, and continue|abort to a {\"pen_change\"} line on stderr");
   auto* g = "Simulator";
   cmd->add_option("--sim-speedup", a->sim_speedup, "Simulated plotter runs this many times faster")->capture_default_str()->group(g);
   cmd->add_option("--sim-baud", a->sim_baud, "Simulated wire baud rate")->capture_default_str()->group(g);

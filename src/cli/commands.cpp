@@ -58,7 +58,8 @@ void register_all(CLI::App& app) {
   register_devices(app);
   register_sim(app);
   register_plot(app);
-  guard_option_values(app);
+  register_serve(app);
+  guard_option_values(app);  // after every command: it checks all their options
 }
 
 }  // namespace stipplot::cli

@@ -13,5 +13,6 @@ void register_export(CLI::App& app);
 void register_devices(CLI::App& app);
 void register_sim(CLI::App& app);
 void register_plot(CLI::App& app);
+void register_serve(CLI::App& app);
 void register_all(CLI::App& app);
 }  // namespace stipplot::cli
