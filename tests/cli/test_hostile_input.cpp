@@ -123,8 +123,10 @@ TEST_CASE("command-line errors exit 1 with one line", "[cli][bad-input]") {
       {"stipple DIR/in.png -o DIR/o.svg --seed 1e20", "--seed: must be a whole number"},
       {"stipple DIR/in.png -o DIR/o.svg --seed 99999999999999999999", "--seed: must be a whole number"},
       {"stipple DIR/in.png -o DIR/o.svg --max-pixels -1", "--max-pixels: must be a whole number"},
-      {"stipple DIR/in.png -o DIR/o.svg -a nan", "-a: must be a finite decimal number"},
-      {"stipple DIR/in.png -o DIR/o.svg -b inf", "-b: must be a finite decimal number"},
+      {"stipple DIR/in.png -o DIR/o.svg -a nan", "-a: expected a length >= 0"},  // a length: mm or px
+      {"stipple DIR/in.png -o DIR/o.svg -b inf", "-b: expected a length >= 0"},
+      {"tree DIR/in.png -o DIR/o.svg -a nan", "-a: must be a finite decimal number"},
+      {"tree DIR/in.png -o DIR/o.svg -b inf", "-b: must be a finite decimal number"},
       {"stipple DIR/in.png -o DIR/o.svg --multipass 1.5", "--multipass: must be a whole number"},
       {"nosuchcommand", "subcommand"},
   });

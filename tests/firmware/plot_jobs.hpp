@@ -42,15 +42,16 @@ struct Job {
 };
 
 // `stipplot export SVG --profile P -o OUT --json`.
-inline Job export_job(const std::string& svg, const std::string& profile, const std::string& out) {
-  auto r = test::run_cli("export " + svg + " --profile " + profile + " -o " + out + " --json");
+inline Job export_job(const std::string& svg, const std::string& profile, const std::string& out,
+                      const std::string& extra = "") {
+  auto r = test::run_cli("export " + svg + " --profile " + profile + " -o " + out + " --json " + extra);
   if (r.exit_code != 0) throw std::runtime_error("stipplot export failed: " + r.err);
   return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};
 }
 
-// `stipplot stipple examples/horse.png` on a small page: -a 80 -b 120 gives 9 dots.
+// `stipplot stipple examples/horse.png` on a small page: -a 80px -b 120px gives 9 dots.
 inline Job dots_job(const std::string& profile, const std::string& out,
-                    const std::string& extra = "--page 30x25mm --margin 2 -a 80 -b 120") {
+                    const std::string& extra = "--page 30x25mm --margin 2 -a 80px -b 120px") {
   auto r = test::run_cli("stipple " + example("horse.png") + " " + extra + " --profile " + profile + " -o " + out + " --json");
   if (r.exit_code != 0) throw std::runtime_error("stipplot stipple failed: " + r.err);
   return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};

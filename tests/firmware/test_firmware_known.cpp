@@ -59,7 +59,7 @@ TEST_CASE("firmware known: stipplot's time estimate against the firmware's plot 
       "rests", "rests*$1", "starved", "wall");
   for (const std::string profile : {"grbl-servo", "grbl-z"}) {
     std::vector<TimedJob> list = {
-        {"dots", jobs::dots_job(profile, t.file("dots-" + profile + ".gcode"), "--page 40x30mm --margin 2 -a 40 -b 60")},
+        {"dots", jobs::dots_job(profile, t.file("dots-" + profile + ".gcode"), "--page 40x30mm --margin 2 -a 40px -b 60px")},
         {"tree", jobs::tree_job(profile, t.file("tree-" + profile + ".gcode"), "--page 40x30mm --margin 2 -a 25 -b 40")},
         {"foreign", jobs::export_job(jobs::example("foreign.svg"), profile, t.file("foreign-" + profile + ".gcode"))},
     };
@@ -221,7 +221,7 @@ TEST_CASE("firmware known: soft limits ($20=1, homing on) and a valid grbl-servo
 // holds: grbl drops bytes and rejects the mangled lines.
 TEST_CASE("firmware known: without buffer state in status reports the lost-reply guess overfills grbl", "[.firmware-known]") {
   test::TempDir t;
-  jobs::Job job = jobs::dots_job("grbl-servo", t.file("dots.gcode"), "--page 40x30mm --margin 2 -a 40 -b 60");
+  jobs::Job job = jobs::dots_job("grbl-servo", t.file("dots.gcode"), "--page 40x30mm --margin 2 -a 40px -b 60px");
   const std::string gcode = test::read_file(job.path);
   say("\n%s: %zu lines, %.1f s; settings grbl-servo ($10=1)\n%4s %5s %9s %9s %6s %6s %14s\n", job.path.c_str(),
       jobs::job_lines(gcode).size(), job.estimate_s, "run", "exit", "misfired", "rx drops", "lost", "extra", "done too early");

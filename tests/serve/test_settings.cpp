@@ -25,9 +25,10 @@ TEST_CASE("serve schema: the controls are the CLI's own options with their defau
   const json& opts = m["stipple"]["options"];
   const json* a = find(opts, "-a");
   REQUIRE(a);
-  CHECK((*a)["unit"] == "px");
+  // A length: millimetres unless written in another unit, as the default is ("3px").
+  CHECK((*a)["unit"] == "mm");
   CHECK((*a)["flag"] == false);
-  CHECK_FALSE((*a)["default"].get<std::string>().empty());
+  CHECK((*a)["default"] == "3px");
   const json* method = find(opts, "--method");
   REQUIRE(method);
   CHECK((*method)["default"] == "gray");
