@@ -15,6 +15,7 @@
 #include "fast_sim.hpp"
 #include "jobgen.hpp"
 #include "sim/grbl_sim.hpp"
+#include "test_util.hpp"
 
 using namespace stipplot;
 using namespace stipplot::io;
@@ -389,4 +390,42 @@ TEST_CASE("grbl M0 pen change: asked once grbl holds there with everything befor
   auto d = testjob::compare(job_segments(job), r.sim->record());
   INFO(d.str());
   CHECK(d.equal());
+}
+
+TEST_CASE("grbl watchdog: a controller that takes nothing stops the plot with a clear error and a resumable journal",
+          "[drivers][grbl][faults][watchdog]") {
+  sim::Faults f;
+  f.stall_line = 12, f.stall_ms = 2e6;  // 50 s real at 40x: stuck
+  Run r = open_pty(fast_config(f));
+  const Job job = small_job(9, 10);
+  grbl::Options o;
+  o.watchdog = Millis(600);
+  grbl::Streamer st(*r.port, o);
+  st.connect();
+  test::TempDir t;
+  const std::string jpath = t.file("w.gcode.journal");
+  JournalHeader h;
+  h.total_lines = job.lines.size();
+  const auto t0 = std::chrono::steady_clock::now();
+  {
+    Journal journal(jpath, h);
+    CHECK_THROWS_WITH(st.stream(job, 0, {}, &journal), Catch::Contains("took nothing for 0.6 s") &&
+                                                            Catch::Contains("line(s) unanswered: the plot stopped"));
+  }
+  CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
+  const JournalState js = Journal::load(jpath);
+  CHECK_FALSE(js.complete);
+  CHECK(js.last_acked < 12);  // the stuck line is not counted done
+}
+
+TEST_CASE("grbl: a line longer than the receive buffer is refused before anything is sent", "[drivers][grbl][faults]") {
+  Run r = open_pty(fast_config());
+  const Job job = small_job(10, 3);
+  grbl::Options o;
+  o.rx_buffer = 16;  // as --rx-buffer 16
+  grbl::Streamer st(*r.port, o);
+  st.connect();
+  CHECK_THROWS_WITH(st.stream(job, 0, {}, nullptr), Catch::Contains("more than grbl's receive buffer of 16 bytes") &&
+                                                        Catch::Contains("nothing was sent"));
+  CHECK(r.sim->stats().lines == 0);
 }

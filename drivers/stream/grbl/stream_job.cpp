@@ -1,6 +1,7 @@
 // The job loop of the grbl streamer: what one Streamer::stream() call does.
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <deque>
 #include <thread>
 
@@ -10,6 +11,15 @@
 
 namespace stipplot::io::grbl {
 
+namespace {
+// "20", "0.6": the watchdog's time as a person reads it.
+std::string seconds_text(Millis m) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", static_cast<double>(m.count()) / 1000);
+  return b;
+}
+}  // namespace
+
 // One stream() call. The loop sends while the window has room, polls status, and hands
 // each line grbl sends to the handler of its kind; controls (pause, resume, abort) are
 // applied between lines.
@@ -18,7 +28,9 @@ class Streamer::JobRun {
   JobRun(Streamer& s, const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
          const ProgressFn& progress, StreamControls* controls)
       : s_(s), o_(s.o_), session_(job, start, preamble, journal, progress), controls_(controls),
-        window_(o_.mode, static_cast<size_t>(o_.rx_buffer)) {}
+        window_(o_.mode, static_cast<size_t>(o_.rx_buffer)) {
+    refuse_long_lines();
+  }
 
   StreamResult run() {
     try {
@@ -29,6 +41,7 @@ class Streamer::JobRun {
         if (finished(now)) break;
         poll_if_due(now);
         read_and_dispatch();
+        check_watchdog();
       }
     } catch (const TransportError&) {
       session_.sync_journal();
@@ -44,6 +57,43 @@ class Streamer::JobRun {
  private:
   enum class Control { Go, Aborted };
   using clock = std::chrono::steady_clock;
+
+  // Before anything is sent: a line that cannot fit grbl's receive buffer would never
+  // be sent (character counting) or overflow it.
+  void refuse_long_lines() const {
+    for (size_t i = 0; i < session_.items(); ++i) {
+      const size_t bytes = session_.text(i).size() + 1;
+      if (bytes <= static_cast<size_t>(o_.rx_buffer)) continue;
+      const long line = session_.job_line(i);
+      throw UserError((line >= 0 ? "line " + std::to_string(line + 1) : std::string("a resume line")) + " is " +
+                      std::to_string(bytes) + " bytes with its newline, more than grbl's receive buffer of " +
+                      std::to_string(o_.rx_buffer) + " bytes (profile [serial] rx_buffer_bytes, --rx-buffer): "
+                      "it could never be sent whole; nothing was sent");
+    }
+  }
+
+  // Something happened: a line answered, or a status report that differs from the last.
+  void progressed() { last_progress_ = clock::now(); }
+
+  // Lines outstanding and nothing happening for the watchdog's time beyond what the
+  // oldest of them takes by the timed plan (a long dwell): the device is stuck.
+  void check_watchdog() {
+    if (paused_ || window_.empty()) {
+      progressed();
+      return;
+    }
+    const long line = session_.job_line(window_.oldest().item);
+    const double own_s = line >= 0 ? session_.job().lines[static_cast<size_t>(line)].est_s : 0;
+    const auto allowed = o_.watchdog + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(own_s));
+    if (clock::now() - last_progress_ <= allowed) return;
+    rollback_to_executed();
+    session_.sync_journal();
+    throw TransportError(TransportError::Kind::Timeout,
+                         "grbl on " + s_.t_.describe() + " took nothing for " +
+                             seconds_text(o_.watchdog) + " s (no line answered, no motion, state " +
+                             (s_.last_status_.state.empty() ? std::string("unknown") : s_.last_status_.state) +
+                             ") with " + std::to_string(window_.size()) + " line(s) unanswered: the plot stopped");
+  }
 
   void report() { session_.report(next_, s_.last_status_.state, s_.last_status_.x, s_.last_status_.y); }
 
@@ -109,6 +159,7 @@ class Streamer::JobRun {
     }
     last_rx_ = clock::now();
     const Reply r = classify_reply(line);
+    if (r.answers_a_line()) progressed();
     switch (r.kind) {
       case ReplyKind::Ok: on_ok(); break;
       case ReplyKind::Error: on_error(line, r.code); break;
@@ -202,6 +253,10 @@ class Streamer::JobRun {
   void on_status(const std::string& line) {
     Status st;
     if (!parse_status(line, st)) return;
+    const Status& was = s_.last_status_;
+    if (st.state != was.state || st.x != was.x || st.y != was.y || st.z != was.z || st.blocks_free != was.blocks_free ||
+        st.bytes_free != was.bytes_free)
+      progressed();
     take_snapshot(st);
     report();
     if (st.state.rfind("Alarm", 0) == 0) {
@@ -226,6 +281,7 @@ class Streamer::JobRun {
       session_.pause_begins();
       answer = o_.on_pause({line, jl.note});
       session_.pause_ends();
+      progressed();  // the operator's time is not the device's
     }
     if (answer != PauseAnswer::go) stop_at_pause(line, jl, answer);
     m0_released_ = static_cast<long>(item);
@@ -341,7 +397,7 @@ class Streamer::JobRun {
   std::deque<long> acked_motion_;   // acknowledged motion lines not yet known executed
   size_t motion_acked_ = 0;         // moves acknowledged in all (acked_motion_ keeps the last)
   Snapshot snapshot_{0, session_.result().last_acked, -1};
-  clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_;
+  clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_, last_progress_ = last_rx_;
   int idle_polls_ = 0;
   bool paused_ = false, finishing_ = false;
   long m0_released_ = -2;           // the M0 item whose pause was released
