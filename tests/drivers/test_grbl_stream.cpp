@@ -429,3 +429,24 @@ TEST_CASE("grbl: a line longer than the receive buffer is refused before anythin
                                                         Catch::Contains("nothing was sent"));
   CHECK(r.sim->stats().lines == 0);
 }
+
+TEST_CASE("resume on a controller that lost power restores the feed in G0 mode too (no error:22)", "[drivers][grbl][resume]") {
+  // F is set once, in G1 mode; the resume point lies after a travel (G0 mode).
+  const Job job = parse_gcode_job(
+      "G21\nG90\nG1 F600\nM5\nG0 X10 Y10\nM3 S30\nG4 P0.05\nG1 X20 Y10\nM5\nG4 P0.05\nG0 X30 Y30\nM3 S30\nG4 P0.05\n"
+      "G1 X40 Y30\nM5\nG4 P0.05\nG0 X0 Y0\n");
+  const ResumePlan rp = plan_resume(job, 11);  // after "G0 X30 Y30"
+  REQUIRE_FALSE(rp.preamble.empty());
+  CHECK(rp.preamble.back() == "G0 F600");
+  Run r = open_pty(fast_config());  // a fresh controller: F is 0
+  grbl::Streamer st(*r.port, {});
+  st.connect();
+  const StreamResult res = st.stream(job, rp.next, rp.preamble, nullptr);
+  CHECK(res.completed);
+  CHECK(res.errors.empty());
+  REQUIRE(r.sim->wait_idle(20));
+  const auto drawn = r.sim->record();
+  REQUIRE(drawn.size() == 1);
+  CHECK(drawn[0].x0 == Approx(30));
+  CHECK(drawn[0].x1 == Approx(40));
+}
