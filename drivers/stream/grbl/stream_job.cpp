@@ -1,10 +1,12 @@
 // The job loop of the grbl streamer: what one Streamer::stream() call does.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <deque>
 #include <thread>
 
+#include "drivers/job/gcode_reader.hpp"
 #include "drivers/stream/grbl/codes.hpp"
 #include "drivers/stream/grbl/streamer.hpp"
 #include "drivers/stream/session.hpp"
@@ -12,6 +14,19 @@
 namespace stipplot::io::grbl {
 
 namespace {
+// A line grbl runs only once its planner is empty (gcode.c): a dwell, a spindle (pen)
+// command, a program pause or end. Its "ok" proves every move before it ran.
+bool is_sync_line(const std::string& text) {
+  for (const GcodeWord& w : gcode_words(text)) {
+    if (w.letter == 'G' && is_dwell(w)) return true;
+    if (w.letter == 'M') {
+      const long m = std::lround(w.value);
+      if (m == 0 || m == 1 || m == 2 || m == 3 || m == 4 || m == 5 || m == 30) return true;
+    }
+  }
+  return false;
+}
+
 // "20", "0.6": the watchdog's time as a person reads it.
 std::string seconds_text(Millis m) {
   char b[32];
@@ -176,6 +191,13 @@ class Streamer::JobRun {
     const long line = session_.job_line(l.item);
     if (line < 0) return;
     session_.acknowledge(line);
+    if (is_sync_line(session_.job().lines[static_cast<size_t>(line)].text)) {
+      // grbl answers a sync line once it has run, after every block before it: all
+      // acknowledged moves are executed.
+      last_sync_acked_ = line;
+      acked_motion_.clear();
+      return;
+    }
     if (session_.job().lines[static_cast<size_t>(line)].motion) {
       acked_motion_.push_back(line);
       ++motion_acked_;
@@ -233,18 +255,20 @@ class Streamer::JobRun {
   [[noreturn]] void on_alarm(int code) {
     const long idx = window_.empty() ? session_.result().last_acked : session_.job_line(window_.oldest().item);
     // Leave the port sane: reset flushes grbl's buffers and restarts its parser.
+    bool reset_ok = true;
     try {
       s_.soft_reset();
     } catch (const TransportError&) {
+      reset_ok = false;
     }
-    rollback_to_executed();
+    rollback_to_executed(reset_ok);
     throw DeviceError("grbl ALARM:" + std::to_string(code) + " near line " + std::to_string(idx + 1) + ": " +
                           alarm_meaning(code) + " The machine is locked: check it, unlock ($X) or re-home, then resume.",
                       idx, code, true);
   }
 
   [[noreturn]] void on_restart() {
-    const long done = rollback_to_executed();
+    const long done = rollback_to_executed(true);
     throw DeviceError("grbl restarted during the job (reset or power loss); its buffer was lost. Resume continues after line " +
                           std::to_string(done + 1),
                       done, 0, true);
@@ -260,7 +284,7 @@ class Streamer::JobRun {
     take_snapshot(st);
     report();
     if (st.state.rfind("Alarm", 0) == 0) {
-      rollback_to_executed();
+      rollback_to_executed(true);
       throw DeviceError("grbl entered ALARM state during the job (see the machine); resume after unlocking", -1, 0, true);
     }
     if (st.state.rfind("Hold", 0) == 0 && !paused_ && !window_.empty()) release_program_pause();
@@ -335,15 +359,49 @@ class Streamer::JobRun {
   long executed_estimate() const {
     int in_planner = snapshot_.blocks_free >= 0 ? o_.planner_blocks - snapshot_.blocks_free : o_.planner_blocks;
     const size_t first_kept = motion_acked_ - acked_motion_.size();  // acked_motion_[0]'s number
-    const size_t known = snapshot_.motion_acked - first_kept;        // kept moves acked before the report
+    // kept moves acked before the report (none when a sync line since has cleared them)
+    const size_t known = snapshot_.motion_acked > first_kept ? snapshot_.motion_acked - first_kept : 0;
     in_planner = std::clamp(in_planner, 0, static_cast<int>(known));
-    if (in_planner == 0) return snapshot_.last_acked;
-    return acked_motion_[known - static_cast<size_t>(in_planner)] - 1;
+    if (in_planner == 0) return std::max(snapshot_.last_acked, last_sync_acked_);
+    return std::max(acked_motion_[known - static_cast<size_t>(in_planner)] - 1, last_sync_acked_);
   }
 
-  // After grbl lost its buffers: the journal and the result go back to what was executed.
-  long rollback_to_executed() {
-    const long done = executed_estimate();
+  // Where grbl stopped, once its buffers are gone (after a reset grbl keeps its step
+  // position): among the moves acknowledged but not known executed, the first whose
+  // line holds that point is the one under way (done up to the one before it), or, if
+  // the point is its end, the last done. Earlier rather than later on crossings: a move
+  // drawn twice, never one lost. -2 when no move holds it (a power cycle zeroes grbl).
+  long executed_at_position(double x, double y) const {
+    constexpr double tol = 0.02;  // mm: a couple of steps
+    const auto& L = session_.job().lines;
+    int in_planner = snapshot_.blocks_free >= 0 ? o_.planner_blocks - snapshot_.blocks_free : o_.planner_blocks;
+    const size_t first_kept = motion_acked_ - acked_motion_.size();
+    const size_t known = snapshot_.motion_acked > first_kept ? snapshot_.motion_acked - first_kept : 0;
+    in_planner = std::clamp(in_planner, 0, static_cast<int>(known));
+    for (size_t k = known - static_cast<size_t>(in_planner); k < acked_motion_.size(); ++k) {
+      const size_t line = static_cast<size_t>(acked_motion_[k]);
+      const double x0 = line ? L[line - 1].x : 0, y0 = line ? L[line - 1].y : 0, x1 = L[line].x, y1 = L[line].y;
+      const double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
+      const double u = len2 > 0 ? std::clamp(((x - x0) * dx + (y - y0) * dy) / len2, 0.0, 1.0) : 0.0;
+      if (std::hypot(x0 + u * dx - x, y0 + u * dy - y) > tol) continue;
+      return std::hypot(x1 - x, y1 - y) <= tol ? static_cast<long>(line) : static_cast<long>(line) - 1;
+    }
+    return -2;
+  }
+
+  // After grbl lost its buffers: the journal and the result go back to what was
+  // executed, from where the machine stopped when grbl can say, else from the planner
+  // fill of the last status report.
+  long rollback_to_executed(bool ask_position = false) {
+    long done = executed_estimate();
+    if (ask_position) {
+      try {
+        const Status st = s_.query_status(Millis(2000));
+        const long at = executed_at_position(st.x, st.y);
+        if (at >= done) done = at;
+      } catch (const TransportError&) {
+      }
+    }
     session_.rollback_to(done);
     return done;
   }
@@ -353,7 +411,7 @@ class Streamer::JobRun {
     std::this_thread::sleep_for(Millis(200));
     status_after_hold(Millis(2000));
     s_.soft_reset();
-    const long done = rollback_to_executed();
+    const long done = rollback_to_executed(true);
     StreamResult res = session_.finish();
     s_.note("job aborted; the machine was reset. Resume continues after line " + std::to_string(done + 1));
     return res;
@@ -396,6 +454,7 @@ class Streamer::JobRun {
   size_t next_ = 0;                 // next item to send
   std::deque<long> acked_motion_;   // acknowledged motion lines not yet known executed
   size_t motion_acked_ = 0;         // moves acknowledged in all (acked_motion_ keeps the last)
+  long last_sync_acked_ = -1;       // the last sync line answered: everything up to it ran
   Snapshot snapshot_{0, session_.result().last_acked, -1};
   clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_, last_progress_ = last_rx_;
   int idle_polls_ = 0;
