@@ -76,4 +76,23 @@ void check_plan_fits(const Plan& plan, const DeviceProfile& profile) {
   }
 }
 
+void check_job_fits(const io::Job& job, const DeviceProfile& profile, const std::string& path) {
+  const MachineGeometry& m = profile.machine;
+  const bool hpgl = job.dialect == io::Dialect::Hpgl;
+  const double per_mm = hpgl ? m.units_per_mm : 1.0;  // the job's units per mm
+  const double slack = 0.5 * (hpgl ? 1.0 / m.units_per_mm : m.resolution_mm);
+  const double x_lo = m.x_sign > 0 ? 0 : -m.travel_x_mm, x_hi = m.x_sign > 0 ? m.travel_x_mm : 0;
+  const double y_lo = m.y_sign > 0 ? 0 : -m.travel_y_mm, y_hi = m.y_sign > 0 ? m.travel_y_mm : 0;
+  for (size_t i = 0; i < job.lines.size(); ++i) {
+    const io::JobLine& l = job.lines[i];
+    const double x = l.x / per_mm, y = l.y / per_mm;
+    if (x >= x_lo - slack && x <= x_hi + slack && y >= y_lo - slack && y <= y_hi + slack) continue;
+    std::ostringstream msg;
+    msg << path << " line " << i + 1 << " `" << l.text.substr(0, 60) << "` goes to (" << x << ", " << y
+        << ") mm, outside the travel of profile " << profile.name << " (X " << x_lo << ".." << x_hi << ", Y " << y_lo
+        << ".." << y_hi << " mm); nothing was sent";
+    throw UserError(msg.str());
+  }
+}
+
 }  // namespace stipplot

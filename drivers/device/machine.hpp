@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "drivers/device/profile.hpp"
+#include "drivers/job/job.hpp"
 #include "geometry/drawing.hpp"
 #include "plan/plan.hpp"
 
@@ -45,4 +46,8 @@ class MachineTransform {
 // machine mm) outside the profile's travel, before anything is written or sent.
 // O(total points).
 void check_plan_fits(const Plan& plan, const DeviceProfile& profile);
+// A job file's every position (G-code mm, HPGL plotter units) inside the profile's
+// travel, to within half a step; throws UserError naming the first line outside.
+// O(lines).
+void check_job_fits(const io::Job& job, const DeviceProfile& profile, const std::string& path);
 }  // namespace stipplot

@@ -83,11 +83,13 @@ std::vector<std::string> gcode_preamble(const std::vector<JobLine>& L, size_t ne
   pre.push_back(buf);
   if (pen_down_before(L, next)) with_dwell(pen_down);
   if (modes.scale != 1) pre.push_back("G20");
-  if (modes.motion == 1 && feed > 0) {
-    std::snprintf(buf, sizeof buf, "G1 F%.4g", feed);
+  // The motion mode and the feed, whichever mode is active: a controller that lost
+  // power has F 0, and the job's next G1 may rely on an F set long before.
+  if (feed > 0) {
+    std::snprintf(buf, sizeof buf, "G%d F%.4g", modes.motion == 1 ? 1 : 0, feed);
     pre.push_back(buf);
-  } else if (modes.motion == 0) {
-    pre.push_back("G0");
+  } else {
+    pre.push_back(modes.motion == 1 ? "G1" : "G0");
   }
   return pre;
 }
@@ -121,7 +123,9 @@ ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device) {
     // from the settled point would restore it).
     ResumePlan rp{next, {}};
     for (const auto& l : gcode_preamble(L, settle_resume_point(job, next)))
-      if (l == "G21" || l == "G90" || l == "G20" || l == "G0" || l.rfind("G1 F", 0) == 0) rp.preamble.push_back(l);
+      if (l == "G21" || l == "G90" || l == "G20" || l == "G0" || l == "G1" || l.rfind("G1 F", 0) == 0 ||
+          l.rfind("G0 F", 0) == 0)
+        rp.preamble.push_back(l);
     return rp;
   }
   next = settle_resume_point(job, next);

@@ -20,6 +20,7 @@
 #include "cli/commands.hpp"
 #include "cli/common.hpp"
 #include "cli/plot_job.hpp"
+#include "drivers/device/machine.hpp"
 #include "drivers/device/motion_setup.hpp"
 #include "drivers/device/pen_rule.hpp"
 #include "drivers/job/gcode_reader.hpp"
@@ -137,6 +138,9 @@ PlotJob load_job(PlotArgs& A) {
   pj.pen_rule = gcode_pen_rule(pj.device);
   pj.job = pj.grbl() ? io::parse_gcode_job(text, pj.pen_rule) : io::parse_hpgl_job(text);
   if (pj.job.lines.empty()) throw UserError("job " + path + " has no lines to plot");
+  // A job file for a named machine must stay inside its travel (an SVG's plan was checked
+  // when it was written).
+  if (!pj.prepared.profile.empty()) check_job_fits(pj.job, pj.device, path);
   if (pj.resuming)
     io::Journal::check_belongs(pj.resume_state, path, pj.hash, io::to_string(pj.prepared.dialect), pj.job.lines.size(),
                                pj.prepared.profile);

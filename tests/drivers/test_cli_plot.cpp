@@ -171,3 +171,16 @@ TEST_CASE("plot --resume refuses a journal that is damaged or acknowledges beyon
   CHECK(other.text.find("belongs to another version") != std::string::npos);
   fs::remove_all(dir);
 }
+
+TEST_CASE("plot refuses a job file that leaves the profile's travel, naming the line", "[cli][drivers]") {
+  auto dir = scratch() / "travel";
+  fs::create_directories(dir);
+  const std::string job = write_job(dir, "far.gcode", "G21\nG90\nM5\nG0 X10 Y10\nG0 X100000 Y10\nG0 X0 Y0\n");
+  Out o = run("plot " + job + " --profile grbl-servo --sim -q < /dev/null");
+  CHECK(o.rc != 0);
+  CHECK(o.text.find("line 5 `G0 X100000 Y10` goes to (100000, 10) mm, outside the travel of profile grbl-servo") !=
+        std::string::npos);
+  CHECK(o.text.find("nothing was sent") != std::string::npos);
+  CHECK_FALSE(fs::exists(job + ".journal"));
+  fs::remove_all(dir);
+}

@@ -15,6 +15,7 @@
 #include "fast_sim.hpp"
 #include "jobgen.hpp"
 #include "sim/grbl_sim.hpp"
+#include "test_util.hpp"
 
 using namespace stipplot;
 using namespace stipplot::io;
@@ -389,4 +390,63 @@ TEST_CASE("grbl M0 pen change: asked once grbl holds there with everything befor
   auto d = testjob::compare(job_segments(job), r.sim->record());
   INFO(d.str());
   CHECK(d.equal());
+}
+
+TEST_CASE("grbl watchdog: a controller that takes nothing stops the plot with a clear error and a resumable journal",
+          "[drivers][grbl][faults][watchdog]") {
+  sim::Faults f;
+  f.stall_line = 12, f.stall_ms = 2e6;  // 50 s real at 40x: stuck
+  Run r = open_pty(fast_config(f));
+  const Job job = small_job(9, 10);
+  grbl::Options o;
+  o.watchdog = Millis(600);
+  grbl::Streamer st(*r.port, o);
+  st.connect();
+  test::TempDir t;
+  const std::string jpath = t.file("w.gcode.journal");
+  JournalHeader h;
+  h.total_lines = job.lines.size();
+  const auto t0 = std::chrono::steady_clock::now();
+  {
+    Journal journal(jpath, h);
+    CHECK_THROWS_WITH(st.stream(job, 0, {}, &journal), Catch::Contains("took nothing for 0.6 s") &&
+                                                            Catch::Contains("line(s) unanswered: the plot stopped"));
+  }
+  CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
+  const JournalState js = Journal::load(jpath);
+  CHECK_FALSE(js.complete);
+  CHECK(js.last_acked < 12);  // the stuck line is not counted done
+}
+
+TEST_CASE("grbl: a line longer than the receive buffer is refused before anything is sent", "[drivers][grbl][faults]") {
+  Run r = open_pty(fast_config());
+  const Job job = small_job(10, 3);
+  grbl::Options o;
+  o.rx_buffer = 16;  // as --rx-buffer 16
+  grbl::Streamer st(*r.port, o);
+  st.connect();
+  CHECK_THROWS_WITH(st.stream(job, 0, {}, nullptr), Catch::Contains("more than grbl's receive buffer of 16 bytes") &&
+                                                        Catch::Contains("nothing was sent"));
+  CHECK(r.sim->stats().lines == 0);
+}
+
+TEST_CASE("resume on a controller that lost power restores the feed in G0 mode too (no error:22)", "[drivers][grbl][resume]") {
+  // F is set once, in G1 mode; the resume point lies after a travel (G0 mode).
+  const Job job = parse_gcode_job(
+      "G21\nG90\nG1 F600\nM5\nG0 X10 Y10\nM3 S30\nG4 P0.05\nG1 X20 Y10\nM5\nG4 P0.05\nG0 X30 Y30\nM3 S30\nG4 P0.05\n"
+      "G1 X40 Y30\nM5\nG4 P0.05\nG0 X0 Y0\n");
+  const ResumePlan rp = plan_resume(job, 11);  // after "G0 X30 Y30"
+  REQUIRE_FALSE(rp.preamble.empty());
+  CHECK(rp.preamble.back() == "G0 F600");
+  Run r = open_pty(fast_config());  // a fresh controller: F is 0
+  grbl::Streamer st(*r.port, {});
+  st.connect();
+  const StreamResult res = st.stream(job, rp.next, rp.preamble, nullptr);
+  CHECK(res.completed);
+  CHECK(res.errors.empty());
+  REQUIRE(r.sim->wait_idle(20));
+  const auto drawn = r.sim->record();
+  REQUIRE(drawn.size() == 1);
+  CHECK(drawn[0].x0 == Approx(30));
+  CHECK(drawn[0].x1 == Approx(40));
 }

@@ -244,3 +244,64 @@ TEST_CASE("HPGL pause answered stop: the journal ends before it, or with it as d
     CHECK(js.last_acked == (answer == PauseAnswer::stop ? pause_line - 1 : pause_line));
   }
 }
+
+TEST_CASE("HPGL: an instruction longer than the plotter's buffer is refused before anything is sent", "[drivers][hpgl][faults]") {
+  hpgl::Options o;
+  o.buffer_bytes = 64;
+  HpglRun run(fast(), o);
+  std::string pd = "IN;SP1;PU0,0;PD";
+  for (int i = 0; i < 20; ++i) pd += (i ? "," : "") + std::to_string(100 + i * 10) + ",200";
+  pd += ";PU;SP0;";
+  const Job job = parse_hpgl_job(pd);
+  CHECK_THROWS_WITH(run.st.stream(job, 0, {}, nullptr), Catch::Contains("the plotter's buffer can take at once") &&
+                                                            Catch::Contains("nothing was sent"));
+  REQUIRE(run.sim.wait_idle(5));
+  CHECK(run.sim.record().empty());
+}
+
+TEST_CASE("HPGL connect clears an unfinished instruction a dead host left, instead of waiting for it", "[drivers][hpgl][faults]") {
+  sim::HpglSim sim(fast());
+  const std::string path = sim.open_pty();
+  {
+    PosixSerial dead(path, {});
+    dead.write("IN;SP1;PU100,100;PD200,200,300", Millis(1000));  // the host died mid-instruction
+  }
+  PosixSerial port(path, {});
+  hpgl::Options o;
+  o.watchdog = Millis(500);
+  std::vector<std::string> notes;
+  o.log = [&](const std::string& s) { notes.push_back(s); };
+  hpgl::Streamer st(port, o);
+  const auto t0 = std::chrono::steady_clock::now();
+  st.connect();
+  CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
+  bool cleared = false;
+  for (const auto& n : notes) cleared |= n.find("cleared with ESC.K") != std::string::npos;
+  CHECK(cleared);
+  const Job job = hpgl_job(23, 6);
+  CHECK(st.stream(job, 0, {}, nullptr).completed);
+}
+
+TEST_CASE("HPGL watchdog: a plotter that frees nothing stops the plot with a clear error and a resumable journal",
+          "[drivers][hpgl][faults][watchdog]") {
+  sim::Faults f;
+  f.stall_line = 10, f.stall_ms = 2e6;
+  hpgl::Options o;
+  o.watchdog = Millis(600);
+  HpglRun run(fast(f), o);
+  const Job job = hpgl_job(24, 30);
+  test::TempDir t;
+  const std::string jpath = t.file("w.hpgl.journal");
+  JournalHeader h;
+  h.total_lines = job.lines.size();
+  const auto t0 = std::chrono::steady_clock::now();
+  {
+    Journal journal(jpath, h);
+    CHECK_THROWS_WITH(run.st.stream(job, 0, {}, &journal), Catch::Contains("took nothing for 0.6 s") &&
+                                                                Catch::Contains("the plot stopped"));
+  }
+  CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(5));
+  const JournalState js = Journal::load(jpath);
+  CHECK_FALSE(js.complete);
+  CHECK(js.last_acked < 10);
+}

@@ -1,14 +1,39 @@
 // The job loop of the grbl streamer: what one Streamer::stream() call does.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <deque>
 #include <thread>
 
+#include "drivers/job/gcode_reader.hpp"
 #include "drivers/stream/grbl/codes.hpp"
 #include "drivers/stream/grbl/streamer.hpp"
 #include "drivers/stream/session.hpp"
 
 namespace stipplot::io::grbl {
+
+namespace {
+// A line grbl runs only once its planner is empty (gcode.c): a dwell, a spindle (pen)
+// command, a program pause or end. Its "ok" proves every move before it ran.
+bool is_sync_line(const std::string& text) {
+  for (const GcodeWord& w : gcode_words(text)) {
+    if (w.letter == 'G' && is_dwell(w)) return true;
+    if (w.letter == 'M') {
+      const long m = std::lround(w.value);
+      if (m == 0 || m == 1 || m == 2 || m == 3 || m == 4 || m == 5 || m == 30) return true;
+    }
+  }
+  return false;
+}
+
+// "20", "0.6": the watchdog's time as a person reads it.
+std::string seconds_text(Millis m) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", static_cast<double>(m.count()) / 1000);
+  return b;
+}
+}  // namespace
 
 // One stream() call. The loop sends while the window has room, polls status, and hands
 // each line grbl sends to the handler of its kind; controls (pause, resume, abort) are
@@ -18,7 +43,9 @@ class Streamer::JobRun {
   JobRun(Streamer& s, const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
          const ProgressFn& progress, StreamControls* controls)
       : s_(s), o_(s.o_), session_(job, start, preamble, journal, progress), controls_(controls),
-        window_(o_.mode, static_cast<size_t>(o_.rx_buffer)) {}
+        window_(o_.mode, static_cast<size_t>(o_.rx_buffer)) {
+    refuse_long_lines();
+  }
 
   StreamResult run() {
     try {
@@ -29,6 +56,7 @@ class Streamer::JobRun {
         if (finished(now)) break;
         poll_if_due(now);
         read_and_dispatch();
+        check_watchdog();
       }
     } catch (const TransportError&) {
       session_.sync_journal();
@@ -44,6 +72,43 @@ class Streamer::JobRun {
  private:
   enum class Control { Go, Aborted };
   using clock = std::chrono::steady_clock;
+
+  // Before anything is sent: a line that cannot fit grbl's receive buffer would never
+  // be sent (character counting) or overflow it.
+  void refuse_long_lines() const {
+    for (size_t i = 0; i < session_.items(); ++i) {
+      const size_t bytes = session_.text(i).size() + 1;
+      if (bytes <= static_cast<size_t>(o_.rx_buffer)) continue;
+      const long line = session_.job_line(i);
+      throw UserError((line >= 0 ? "line " + std::to_string(line + 1) : std::string("a resume line")) + " is " +
+                      std::to_string(bytes) + " bytes with its newline, more than grbl's receive buffer of " +
+                      std::to_string(o_.rx_buffer) + " bytes (profile [serial] rx_buffer_bytes, --rx-buffer): "
+                      "it could never be sent whole; nothing was sent");
+    }
+  }
+
+  // Something happened: a line answered, or a status report that differs from the last.
+  void progressed() { last_progress_ = clock::now(); }
+
+  // Lines outstanding and nothing happening for the watchdog's time beyond what the
+  // oldest of them takes by the timed plan (a long dwell): the device is stuck.
+  void check_watchdog() {
+    if (paused_ || window_.empty()) {
+      progressed();
+      return;
+    }
+    const long line = session_.job_line(window_.oldest().item);
+    const double own_s = line >= 0 ? session_.job().lines[static_cast<size_t>(line)].est_s : 0;
+    const auto allowed = o_.watchdog + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(own_s));
+    if (clock::now() - last_progress_ <= allowed) return;
+    rollback_to_executed();
+    session_.sync_journal();
+    throw TransportError(TransportError::Kind::Timeout,
+                         "grbl on " + s_.t_.describe() + " took nothing for " +
+                             seconds_text(o_.watchdog) + " s (no line answered, no motion, state " +
+                             (s_.last_status_.state.empty() ? std::string("unknown") : s_.last_status_.state) +
+                             ") with " + std::to_string(window_.size()) + " line(s) unanswered: the plot stopped");
+  }
 
   void report() { session_.report(next_, s_.last_status_.state, s_.last_status_.x, s_.last_status_.y); }
 
@@ -109,6 +174,7 @@ class Streamer::JobRun {
     }
     last_rx_ = clock::now();
     const Reply r = classify_reply(line);
+    if (r.answers_a_line()) progressed();
     switch (r.kind) {
       case ReplyKind::Ok: on_ok(); break;
       case ReplyKind::Error: on_error(line, r.code); break;
@@ -125,6 +191,13 @@ class Streamer::JobRun {
     const long line = session_.job_line(l.item);
     if (line < 0) return;
     session_.acknowledge(line);
+    if (is_sync_line(session_.job().lines[static_cast<size_t>(line)].text)) {
+      // grbl answers a sync line once it has run, after every block before it: all
+      // acknowledged moves are executed.
+      last_sync_acked_ = line;
+      acked_motion_.clear();
+      return;
+    }
     if (session_.job().lines[static_cast<size_t>(line)].motion) {
       acked_motion_.push_back(line);
       ++motion_acked_;
@@ -182,18 +255,20 @@ class Streamer::JobRun {
   [[noreturn]] void on_alarm(int code) {
     const long idx = window_.empty() ? session_.result().last_acked : session_.job_line(window_.oldest().item);
     // Leave the port sane: reset flushes grbl's buffers and restarts its parser.
+    bool reset_ok = true;
     try {
       s_.soft_reset();
     } catch (const TransportError&) {
+      reset_ok = false;
     }
-    rollback_to_executed();
+    rollback_to_executed(reset_ok);
     throw DeviceError("grbl ALARM:" + std::to_string(code) + " near line " + std::to_string(idx + 1) + ": " +
                           alarm_meaning(code) + " The machine is locked: check it, unlock ($X) or re-home, then resume.",
                       idx, code, true);
   }
 
   [[noreturn]] void on_restart() {
-    const long done = rollback_to_executed();
+    const long done = rollback_to_executed(true);
     throw DeviceError("grbl restarted during the job (reset or power loss); its buffer was lost. Resume continues after line " +
                           std::to_string(done + 1),
                       done, 0, true);
@@ -202,10 +277,14 @@ class Streamer::JobRun {
   void on_status(const std::string& line) {
     Status st;
     if (!parse_status(line, st)) return;
+    const Status& was = s_.last_status_;
+    if (st.state != was.state || st.x != was.x || st.y != was.y || st.z != was.z || st.blocks_free != was.blocks_free ||
+        st.bytes_free != was.bytes_free)
+      progressed();
     take_snapshot(st);
     report();
     if (st.state.rfind("Alarm", 0) == 0) {
-      rollback_to_executed();
+      rollback_to_executed(true);
       throw DeviceError("grbl entered ALARM state during the job (see the machine); resume after unlocking", -1, 0, true);
     }
     if (st.state.rfind("Hold", 0) == 0 && !paused_ && !window_.empty()) release_program_pause();
@@ -226,6 +305,7 @@ class Streamer::JobRun {
       session_.pause_begins();
       answer = o_.on_pause({line, jl.note});
       session_.pause_ends();
+      progressed();  // the operator's time is not the device's
     }
     if (answer != PauseAnswer::go) stop_at_pause(line, jl, answer);
     m0_released_ = static_cast<long>(item);
@@ -279,15 +359,49 @@ class Streamer::JobRun {
   long executed_estimate() const {
     int in_planner = snapshot_.blocks_free >= 0 ? o_.planner_blocks - snapshot_.blocks_free : o_.planner_blocks;
     const size_t first_kept = motion_acked_ - acked_motion_.size();  // acked_motion_[0]'s number
-    const size_t known = snapshot_.motion_acked - first_kept;        // kept moves acked before the report
+    // kept moves acked before the report (none when a sync line since has cleared them)
+    const size_t known = snapshot_.motion_acked > first_kept ? snapshot_.motion_acked - first_kept : 0;
     in_planner = std::clamp(in_planner, 0, static_cast<int>(known));
-    if (in_planner == 0) return snapshot_.last_acked;
-    return acked_motion_[known - static_cast<size_t>(in_planner)] - 1;
+    if (in_planner == 0) return std::max(snapshot_.last_acked, last_sync_acked_);
+    return std::max(acked_motion_[known - static_cast<size_t>(in_planner)] - 1, last_sync_acked_);
   }
 
-  // After grbl lost its buffers: the journal and the result go back to what was executed.
-  long rollback_to_executed() {
-    const long done = executed_estimate();
+  // Where grbl stopped, once its buffers are gone (after a reset grbl keeps its step
+  // position): among the moves acknowledged but not known executed, the first whose
+  // line holds that point is the one under way (done up to the one before it), or, if
+  // the point is its end, the last done. Earlier rather than later on crossings: a move
+  // drawn twice, never one lost. -2 when no move holds it (a power cycle zeroes grbl).
+  long executed_at_position(double x, double y) const {
+    constexpr double tol = 0.02;  // mm: a couple of steps
+    const auto& L = session_.job().lines;
+    int in_planner = snapshot_.blocks_free >= 0 ? o_.planner_blocks - snapshot_.blocks_free : o_.planner_blocks;
+    const size_t first_kept = motion_acked_ - acked_motion_.size();
+    const size_t known = snapshot_.motion_acked > first_kept ? snapshot_.motion_acked - first_kept : 0;
+    in_planner = std::clamp(in_planner, 0, static_cast<int>(known));
+    for (size_t k = known - static_cast<size_t>(in_planner); k < acked_motion_.size(); ++k) {
+      const size_t line = static_cast<size_t>(acked_motion_[k]);
+      const double x0 = line ? L[line - 1].x : 0, y0 = line ? L[line - 1].y : 0, x1 = L[line].x, y1 = L[line].y;
+      const double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
+      const double u = len2 > 0 ? std::clamp(((x - x0) * dx + (y - y0) * dy) / len2, 0.0, 1.0) : 0.0;
+      if (std::hypot(x0 + u * dx - x, y0 + u * dy - y) > tol) continue;
+      return std::hypot(x1 - x, y1 - y) <= tol ? static_cast<long>(line) : static_cast<long>(line) - 1;
+    }
+    return -2;
+  }
+
+  // After grbl lost its buffers: the journal and the result go back to what was
+  // executed, from where the machine stopped when grbl can say, else from the planner
+  // fill of the last status report.
+  long rollback_to_executed(bool ask_position = false) {
+    long done = executed_estimate();
+    if (ask_position) {
+      try {
+        const Status st = s_.query_status(Millis(2000));
+        const long at = executed_at_position(st.x, st.y);
+        if (at >= done) done = at;
+      } catch (const TransportError&) {
+      }
+    }
     session_.rollback_to(done);
     return done;
   }
@@ -297,7 +411,7 @@ class Streamer::JobRun {
     std::this_thread::sleep_for(Millis(200));
     status_after_hold(Millis(2000));
     s_.soft_reset();
-    const long done = rollback_to_executed();
+    const long done = rollback_to_executed(true);
     StreamResult res = session_.finish();
     s_.note("job aborted; the machine was reset. Resume continues after line " + std::to_string(done + 1));
     return res;
@@ -340,8 +454,9 @@ class Streamer::JobRun {
   size_t next_ = 0;                 // next item to send
   std::deque<long> acked_motion_;   // acknowledged motion lines not yet known executed
   size_t motion_acked_ = 0;         // moves acknowledged in all (acked_motion_ keeps the last)
+  long last_sync_acked_ = -1;       // the last sync line answered: everything up to it ran
   Snapshot snapshot_{0, session_.result().last_acked, -1};
-  clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_;
+  clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_, last_progress_ = last_rx_;
   int idle_polls_ = 0;
   bool paused_ = false, finishing_ = false;
   long m0_released_ = -2;           // the M0 item whose pause was released

@@ -15,6 +15,7 @@ Options options_for(const DeviceProfile& p) {
   Options o;
   o.rx_buffer = p.serial.rx_buffer_bytes;
   o.planner_blocks = p.motion.lookahead_blocks;
+  o.watchdog = Millis(static_cast<long>(p.serial.watchdog_s * 1000));
   return o;
 }
 

@@ -30,6 +30,9 @@ struct Options {
   Millis silence_timeout{30000};       // no byte at all for this long: the device is gone
   Millis probe_timeout{1500};          // connect: wait this long for a status report before a reset
   Millis lost_reply_after{1000};       // idle with empty buffers this long: unacknowledged lines are done
+  // Lines wait unanswered and nothing changes (no answer, no motion, no buffer freed) for
+  // this long beyond the oldest line's own time: the plot stops, the journal kept.
+  Millis watchdog{20000};
   bool skip_errors = false;            // error:N: warn and go on instead of stopping
   bool unlock = false;                 // $X if grbl starts in ALARM
   bool lift_on_pause = true;           // spindle-stop override in a hold (servo pens)

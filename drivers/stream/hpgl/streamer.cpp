@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <climits>
 #include <cstdint>
 #include <thread>
@@ -13,10 +14,20 @@ namespace stipplot::io::hpgl {
 
 using clock = std::chrono::steady_clock;
 
+namespace {
+// "20", "0.6": the watchdog's time as a person reads it.
+std::string seconds_text(Millis m) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", static_cast<double>(m.count()) / 1000);
+  return b;
+}
+}  // namespace
+
 Options options_for(const DeviceProfile& p) {
   Options o;
   o.handshake = p.hpgl.handshake;
   o.newline = p.serial.newline;
+  o.watchdog = Millis(static_cast<long>(p.serial.watchdog_s * 1000));
   return o;
 }
 
@@ -100,9 +111,26 @@ void Streamer::connect() {
   }
   buffer_ = o_.buffer_bytes > 0 ? o_.buffer_bytes : query('L');
   if (buffer_ <= o_.reserve) throw UserError("the plotter reports a buffer of " + std::to_string(buffer_) + " bytes: too small");
-  // Wait for earlier work to finish (after a reconnect), so free space means empty.
-  auto end = clock::now() + std::chrono::minutes(30);
-  while (query('B') < buffer_ && clock::now() < end) std::this_thread::sleep_for(Millis(50));
+  // Wait for earlier work to finish (after a reconnect), so free space means empty; a
+  // buffer that stops draining holds what a dead host left unfinished: clear it (the
+  // journal has only what was drawn).
+  int last_free = query('B');
+  auto since = clock::now();
+  while (last_free < buffer_) {
+    std::this_thread::sleep_for(Millis(50));
+    const int free = query('B');
+    if (free != last_free) {
+      last_free = free;
+      since = clock::now();
+    } else if (clock::now() - since > o_.watchdog) {
+      note("the plotter's buffer held " + std::to_string(buffer_ - free) +
+           " bytes it did not draw (an unfinished instruction from an earlier session?): cleared with ESC.K");
+      t_.write("\x1b.K");
+      std::this_thread::sleep_for(Millis(100));
+      last_free = query('B');
+      if (last_free < buffer_) throw UserError("the plotter's buffer does not empty, even after ESC.K");
+    }
+  }
 }
 
 // One stream() call. HPGL has no per-line answer: a line counts as done once the
@@ -123,6 +151,7 @@ class Streamer::JobRun {
       ends_.push_back(data_.size());
       if (jl && jl->pause) pauses_.push_back(i);
     }
+    refuse_long_instructions();
   }
 
   StreamResult run() {
@@ -148,6 +177,45 @@ class Streamer::JobRun {
   using clock = std::chrono::steady_clock;
 
   bool abort_requested() { return controls_ && controls_->abort.exchange(false); }
+
+  // Before anything is sent: an instruction longer than the room the buffer ever has
+  // would sit in it unfinished, and the plotter would wait for its end for ever.
+  void refuse_long_instructions() const {
+    if (s_.buffer_ <= 0) return;  // no buffer size known (no queries): the handshake paces it
+    const size_t room = static_cast<size_t>(s_.buffer_ - (o_.handshake == HpglHandshake::buffer_query ? o_.reserve : 0));
+    for (size_t i = 0; i < ends_.size(); ++i) {
+      const size_t bytes = ends_[i] - (i ? ends_[i - 1] : 0);
+      if (bytes <= room) continue;
+      const long line = session_.job_line(i);
+      throw UserError((line >= 0 ? "instruction " + std::to_string(line + 1) : std::string("a resume instruction")) +
+                      " is " + std::to_string(bytes) + " bytes, more than the " + std::to_string(room) +
+                      " the plotter's buffer can take at once: split it (the writer's max_points_per_command); nothing was sent");
+    }
+  }
+
+  // Data in the plotter and nothing freed for the watchdog's time beyond the timed
+  // plan's time of the instruction it is drawing: it is stuck.
+  void check_watchdog(int free) {
+    const auto now = clock::now();
+    if (free != last_free_ || (controls_ && controls_->pause.load())) {
+      last_free_ = free;
+      last_change_ = now;
+      return;
+    }
+    if (free >= s_.buffer_) {
+      last_change_ = now;
+      return;
+    }
+    const JobLine* jl = acked_upto_ < ends_.size() ? line_of(acked_upto_) : nullptr;
+    const double own_s = jl ? jl->est_s : 0;
+    const auto allowed = o_.watchdog + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(own_s));
+    if (now - last_change_ <= allowed) return;
+    session_.sync_journal();
+    throw TransportError(TransportError::Kind::Timeout,
+                         "the plotter on " + s_.t_.describe() + " took nothing for " +
+                             seconds_text(o_.watchdog) + " s with " +
+                             std::to_string(s_.buffer_ - free) + " bytes in its buffer: the plot stopped");
+  }
 
   const JobLine* line_of(size_t item) const {
     const long line = session_.job_line(item);
@@ -207,6 +275,7 @@ class Streamer::JobRun {
         return false;
       }
       const int free = s_.query('B');
+      check_watchdog(free);
       const size_t in_buffer = static_cast<size_t>(std::max(0, s_.buffer_ - free));
       acknowledge_through(sent_ > in_buffer ? sent_ - in_buffer : 0);
       if (at_pause() && free >= s_.buffer_) {
@@ -322,6 +391,8 @@ class Streamer::JobRun {
   std::vector<size_t> ends_;  // end offset of each item in data_
   std::vector<size_t> pauses_;  // items that are pauses, in order
   size_t sent_ = 0, acked_upto_ = 0, next_pause_ = 0;
+  int last_free_ = -1;
+  clock::time_point last_change_ = clock::now();
 };
 
 StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,

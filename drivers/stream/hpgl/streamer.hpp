@@ -30,6 +30,11 @@ struct Options {
   int retries = 3;              // a lost or garbled reply is asked again this often
   Millis poll_interval{20};
   Millis not_ready_timeout{60000};  // plotter not ready (lever up, view mode) this long: give up
+  // The plotter's buffer holds data and frees nothing for this long beyond what the
+  // instruction under way takes by the timed plan: the plot stops, the journal kept. On
+  // connecting, a buffer left with undrawn data that long (a dead host's unfinished
+  // instruction) is cleared with ESC.K.
+  Millis watchdog{20000};
   // A pause of the job (the writer's reload comment, not sent): asked once the plotter
   // has drawn everything before it. Unset: continue at once.
   PauseFn on_pause;
