@@ -28,7 +28,7 @@ void svg(const uint8_t* d, size_t n) {
   answering([&] {
     // Lower caps than a user's: each input stays quick, the caps themselves are tested.
     SvgReadOptions ro;
-    ro.max_elements = 20000;
+    ro.max_use_copies = 20000;
     ro.max_points = 200000;
     const Drawing drawing = parse_svg(text_of(d, n), "fuzz.svg", ro);
     if (drawing.primitive_count() > 2000) return;

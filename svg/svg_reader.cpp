@@ -442,9 +442,10 @@ class Reader {
     for (const char* s : kSkip)
       if (std::strcmp(tag, s) == 0) return;
     if (display_none(e)) return;
-    if (++elements_ > opt_.max_elements)
-      fail(e, "is one element too many: more than " + std::to_string(opt_.max_elements) +
-                  " elements drawn, <use> copies counted (a <use> bomb?)");
+    // The document's own elements are already in memory; only <use> multiplies them.
+    if (use_depth_ > 0 && ++use_copies_ > opt_.max_use_copies)
+      fail(e, "is one <use> copy too many: more than " + std::to_string(opt_.max_use_copies) +
+                  " elements drawn through <use> (nested <use> multiply)");
     element_ = e;
     if (const char* t = e->Attribute("transform")) ctm = compose(e, ctm, parse_transform(e, t));
     apply_style(e, style, ctm);
@@ -1193,7 +1194,7 @@ class Reader {
   std::map<std::string, LayerInfo> index_;
   std::map<std::string, const tinyxml2::XMLElement*> ids_;
   int use_depth_ = 0;
-  size_t elements_ = 0, points_ = 0;                 // work so far, against the options' caps
+  size_t use_copies_ = 0, points_ = 0;               // work so far, against the options' caps
   const tinyxml2::XMLElement* element_ = nullptr;  // the element being drawn, for errors
   size_t missing_glyphs_ = 0;
   std::vector<Vec2> cur_;

@@ -28,10 +28,11 @@ namespace stipplot {
 struct SvgReadOptions {
   double tolerance_mm = 0.05;          // max distance of a flattened curve from the true one
   double default_pen_width_mm = 0.3;   // when the SVG gives no stroke width
-  // Work caps, checked before the work: elements drawn (each <use> copy counts again, so
-  // nested <use> cannot multiply without end) and points made (flattened curves included).
-  size_t max_elements = 1'000'000;
-  size_t max_points = 5'000'000;
+  // Work caps, checked before the work: elements drawn through <use> (each copy counts,
+  // so nested <use> cannot multiply without end) and points made (flattened curves
+  // included; 16 bytes each).
+  size_t max_use_copies = 1'000'000;
+  size_t max_points = 10'000'000;
 };
 
 // O(elements + output points); the flattening adds points in proportion to

@@ -13,6 +13,7 @@
 #include "sim/hpgl_sim.hpp"
 #include "sim/record.hpp"
 #include "util/error.hpp"
+#include "util/output_paths.hpp"
 
 namespace stipplot::cli {
 
@@ -57,6 +58,7 @@ void run_sim(const SimArgs& a) {
   require_positive("--speedup", a.speedup);
   require_nonnegative("--baud", a.baud);
   require_nonnegative("--latency-ms", a.latency_ms);
+  check_output_paths({}, {{"--record-png", a.record_png}, {"--record-svg", a.record_svg}});
   PageSpec ps = parse_page(a.page);
   Page page;
   page.width_mm = ps.width_mm;

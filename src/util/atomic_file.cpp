@@ -9,6 +9,7 @@
 #include <cstring>
 #include <mutex>
 #include <system_error>
+#include <thread>
 
 #include "util/error.hpp"
 
@@ -69,7 +70,7 @@ size_t slot_of(const fs::path& temp) {
   return kTempSlots;
 }
 
-OutputBatch* g_batch = nullptr;
+std::atomic<OutputBatch*> g_batch{nullptr};
 
 }  // namespace
 
@@ -89,8 +90,9 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::commit() {
-  if (g_batch) {  // the batch renames it, or removes it, and unregisters it
-    g_batch->staged_.push_back({temp_, target_});
+  OutputBatch* batch = g_batch.load();
+  if (batch && batch->stages_this_thread()) {  // the batch renames or removes it
+    batch->staged_.push_back({temp_, target_});
     committed_ = true;
     return;
   }
@@ -102,8 +104,8 @@ void AtomicFile::commit() {
 }
 
 OutputBatch::OutputBatch() {
-  if (g_batch) throw std::logic_error("one OutputBatch at a time");
-  g_batch = this;
+  OutputBatch* none = nullptr;
+  if (!g_batch.compare_exchange_strong(none, this)) throw std::logic_error("one OutputBatch at a time");
 }
 
 OutputBatch::~OutputBatch() {
@@ -112,7 +114,7 @@ OutputBatch::~OutputBatch() {
     fs::remove(s.temp, ec);
     unregister_temp(slot_of(s.temp));
   }
-  g_batch = nullptr;
+  g_batch.store(nullptr);
 }
 
 void OutputBatch::commit() {
@@ -129,7 +131,8 @@ void OutputBatch::commit() {
 }
 
 void commit_staged_outputs() {
-  if (g_batch) g_batch->commit();
+  OutputBatch* batch = g_batch.load();
+  if (batch && batch->stages_this_thread()) batch->commit();
 }
 
 void write_file_atomic(const fs::path& target, const std::string& contents) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace stipplot {
@@ -33,7 +34,9 @@ class AtomicFile {
 };
 
 // The outputs of one run, renamed onto their targets together at commit(); destroying an
-// uncommitted batch removes every temporary it holds. One batch at a time.
+// uncommitted batch removes every temporary it holds. One batch at a time, holding the
+// files committed on the thread that opened it: a server's worker threads write theirs at
+// once.
 class OutputBatch {
  public:
   OutputBatch();
@@ -43,6 +46,7 @@ class OutputBatch {
   // Renames every staged file onto its target, in staging order; UserError on failure.
   void commit();
   size_t staged() const { return staged_.size(); }
+  bool stages_this_thread() const { return owner_ == std::this_thread::get_id(); }
 
  private:
   friend class AtomicFile;
@@ -50,6 +54,7 @@ class OutputBatch {
     std::filesystem::path temp, target;
   };
   std::vector<Staged> staged_;
+  std::thread::id owner_ = std::this_thread::get_id();
 };
 
 // Commits the open batch now, if there is one: for a file the run goes on to read (a job
