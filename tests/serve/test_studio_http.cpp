@@ -99,6 +99,8 @@ TEST_CASE("serve http: foreign Origin and Host are refused", "[serve]") {
   auto r = cl.Post("/api/plot/start", {{"Origin", "http://evil.example"}}, R"({"port":"sim"})", "application/json");
   REQUIRE(r);
   CHECK(r->status == 403);
+  r = cl.Get("/api/download/gcode", {{"Sec-Fetch-Site", "cross-site"}});
+  CHECK(r->status == 403);
   r = cl.Get("/api/config", {{"Origin", self}});
   CHECK(r->status == 200);
   r = cl.Get("/api/config", {{"Host", "rebound.evil.example:" + std::to_string(s.studio->port())}});
