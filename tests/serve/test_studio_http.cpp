@@ -47,7 +47,7 @@ StudioConfig config(const test::TempDir& dir) {
   c.profiles = json::array({{{"name", "grbl-servo"}, {"description", ""}, {"dialect", "gcode"}}});
   c.max_pixels = 50'000'000;
   c.max_upload_bytes = 4u << 20;
-  c.sim_speedup = 200;
+  c.sim_speedup = 100;  // quick, yet not so fast that a loaded machine starves the simulated wire
   return c;
 }
 
