@@ -66,6 +66,7 @@ Verdict check_request(const GuardConfig& cfg, const RequestFacts& req) {
     if (lower(req.origin) != "http://" + lower(req.host))
       return {403, "Origin '" + req.origin + "' is not this server (cross-site requests are refused)"};
   }
+  if (req.fetch_site == "cross-site") return {403, "requests from another site are refused"};
   if (!cfg.token.empty()) {
     const std::string& given = !req.token_header.empty() ? req.token_header
                                : !req.token_query.empty() ? req.token_query

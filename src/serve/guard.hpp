@@ -3,7 +3,8 @@
 // any page the user has open: a foreign page may post to 127.0.0.1 (CSRF) or resolve its
 // own name to it (DNS rebinding). So every request is checked before any handler runs:
 //  - Host must name this server (a loopback name, or the bound address) with its port;
-//  - Origin, when a browser sends one, must be this server itself;
+//  - Origin, when a browser sends one, must be this server itself, and no request may
+//    come from another site (Sec-Fetch-Site);
 //  - on a non-loopback bind every request carries the token (header, cookie or query).
 // File names from requests are resolved inside the working folder or refused.
 #include <filesystem>
@@ -25,6 +26,8 @@ bool is_loopback_address(const std::string& host);
 struct RequestFacts {
   std::string host, origin;
   std::string token_header, token_cookie, token_query;
+  // Sec-Fetch-Site: "cross-site" also for what sends no Origin (an <img> of another page).
+  std::string fetch_site;
 };
 
 struct Verdict {

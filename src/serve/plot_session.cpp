@@ -26,7 +26,16 @@ void PlotSession::start() {
               {"status", req_.resume ? "plotting" : "preparing"}, {"lines", 0}, {"lines_acked", 0},
               {"percent", 0.0},            {"eta_s", -1},       {"resumed", req_.resume}};
   }
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    try {
+      run();
+    } catch (const std::exception& e) {  // e.g. no process could be started: the tabs see why
+      std::lock_guard<std::mutex> lock(m_);
+      child_.reset();
+      state_["status"] = "failed";
+      state_["message"] = e.what();
+    }
+  });
 }
 
 void PlotSession::run() {

@@ -176,9 +176,22 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
     if (s.has(o)) eval.push_back(std::string(o) + "=" + s.value_of(o, ""));
   if (s.has("--landscape")) eval.push_back("--landscape");
   std::optional<ChildResult> planned, judged;
-  std::thread judge([&] { judged = run_for_preview(gen, eval); });
-  planned = run_for_preview(gen, plan);
+  std::exception_ptr judge_failed;
+  std::thread judge([&] {
+    try {
+      judged = run_for_preview(gen, eval);
+    } catch (...) {
+      judge_failed = std::current_exception();  // rethrown below, not lost with the thread
+    }
+  });
+  try {
+    planned = run_for_preview(gen, plan);
+  } catch (...) {
+    judge.join();
+    throw;
+  }
   judge.join();
+  if (judge_failed) std::rethrow_exception(judge_failed);
   if (!planned || !judged) return {{"superseded", true}};
   json out = {{"gen", gen},
               {"draft", draft},
@@ -253,7 +266,8 @@ void Studio::Impl::guard_routes() {
   server.set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
     RequestFacts f{req.get_header_value("Host"), req.get_header_value("Origin"),
                    req.get_header_value("X-Stipplot-Token"),
-                   cookie_value(req.get_header_value("Cookie"), "stipplot_token"), req.get_param_value("token")};
+                   cookie_value(req.get_header_value("Cookie"), "stipplot_token"), req.get_param_value("token"),
+                   req.get_header_value("Sec-Fetch-Site")};
     const Verdict v = check_request(cfg.guard, f);
     if (!v.allowed()) {
       send_error(res, v.status, v.reason);

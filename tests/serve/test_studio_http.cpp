@@ -47,7 +47,7 @@ StudioConfig config(const test::TempDir& dir) {
   c.profiles = json::array({{{"name", "grbl-servo"}, {"description", ""}, {"dialect", "gcode"}}});
   c.max_pixels = 50'000'000;
   c.max_upload_bytes = 4u << 20;
-  c.sim_speedup = 200;
+  c.sim_speedup = 100;  // quick, yet not so fast that a loaded machine starves the simulated wire
   return c;
 }
 
@@ -98,6 +98,8 @@ TEST_CASE("serve http: foreign Origin and Host are refused", "[serve]") {
   const std::string self = "http://127.0.0.1:" + std::to_string(s.studio->port());
   auto r = cl.Post("/api/plot/start", {{"Origin", "http://evil.example"}}, R"({"port":"sim"})", "application/json");
   REQUIRE(r);
+  CHECK(r->status == 403);
+  r = cl.Get("/api/download/gcode", {{"Sec-Fetch-Site", "cross-site"}});
   CHECK(r->status == 403);
   r = cl.Get("/api/config", {{"Origin", self}});
   CHECK(r->status == 200);
