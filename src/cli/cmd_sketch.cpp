@@ -18,7 +18,7 @@ struct SketchArgs {
   std::string cell = "auto";
   std::string mark = "1.2", edge_length = "3.5";
   std::string lighten = "auto";
-  std::string preview_style = "paper";
+  std::string preview_style = "pen";  // pen: the pen-true render of the plan
   std::string sampler = "lds";
   std::string hsi_black = "paper";
   bool measure = false;
@@ -48,7 +48,7 @@ void resolve(SketchArgs& a) {
   if (a.sampler != "lds" && a.sampler != "random")
     throw UserError("--sampler: expected lds or random, got '" + a.sampler + "'");
   a.p.sampler = a.sampler == "lds" ? sketch::SketchParams::Sampler::LowDiscrepancy : sketch::SketchParams::Sampler::Random;
-  a.style = sketch::parse_preview_style(a.preview_style);
+  if (a.preview_style != "pen") a.style = sketch::parse_preview_style(a.preview_style);
   require_range("--blur-cells", a.blur_cells, 0, 100);
   a.p.validate();
 }
@@ -71,8 +71,10 @@ MethodResult draw(const SketchArgs& a, const MethodInput& in) {
   }
   s["pens"] = pens;
   s["points"] = marks;
-  // The sketch's own preview: overlapping strokes of different pens average their colours.
-  out.render_preview = [r, style = a.style](double dpi) { return sketch::render_sketch_preview(*r, dpi, style); };
+  // The sketch's own previews on request; by default the pen-true render of the plan,
+  // which is what the plotter draws.
+  if (a.preview_style != "pen")
+    out.render_preview = [r, style = a.style](double dpi) { return sketch::render_sketch_preview(*r, dpi, style); };
   if (a.measure) {
     out.measure = [r, blur_cells = a.blur_cells](MethodRun& run) {
       const double sigma = blur_cells * r->cell_mm / run.transform.mm_per_px();
@@ -129,7 +131,9 @@ void register_sketch(CLI::App& app) {
       ->capture_default_str()->group("Sketch");
   cmd->add_option("--seed", args->p.seed, "Random seed; the same seed gives the same drawing")->capture_default_str()->group("Sketch");
   cmd->add_option("--preview-style", args->preview_style,
-                  "paper: every mark, lightened as in the paper; plot: only what the plotter draws")
+                  "pen: the plan drawn with the pens' real widths, ink multiplying (what the plotter draws); "
+                  "paper: every mark, lightened, colours averaged where strokes overlap, as in the paper; "
+                  "plot: paper's renderer with only the plotted marks")
       ->capture_default_str()->group("Output");
   cmd->add_flag("--measure", args->measure, "Report the mean CIEDE2000 between the blurred preview and the blurred input")
       ->group("Output");

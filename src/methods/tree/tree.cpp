@@ -153,19 +153,39 @@ TreeResult tree_pixels(const Image& image, const TreeParams& p) {
   return r;
 }
 
+double crowd_gap_mm(size_t lines, double pen_mm, double disc_mm, double coverage) {
+  const double R = disc_mm / 2;
+  const double allowed = coverage * M_PI * R * R / static_cast<double>(std::max<size_t>(lines, 1));
+  // Per line: pen x (R - gap) <= allowed (the round ends overlap the lines at the point).
+  return std::clamp(R - allowed / pen_mm, 0.0, R);
+}
+
 Drawing place_tree(const TreeResult& r, const Placement& placement) {
   const PageTransform tf = placement.transform(r.width, r.height);
+  const double pen = placement.pen_width_mm;
   Drawing d;
   d.page.width_mm = tf.page_w();
   d.page.height_mm = tf.page_h();
+  std::vector<uint32_t> degree(r.points.x.size());
   for (const TreeLayer& tl : r.layers) {
     Layer layer;
-    layer.pen = Pen{std::string(r.cross ? "tree-c" : "tree-") + to_string(tl.kind), colors::black,
-                    placement.pen_width_mm};
+    layer.pen = Pen{std::string(r.cross ? "tree-c" : "tree-") + to_string(tl.kind), colors::black, pen};
     layer.lines.reserve(tl.edges.size());
-    for (const Edge& e : tl.edges)
-      layer.lines.push_back(Polyline{{tf.map(r.points.x[e.a] + 0.5, r.points.y[e.a] + 0.5),
-                                      tf.map(r.points.x[e.b] + 0.5, r.points.y[e.b] + 0.5)}});
+    std::fill(degree.begin(), degree.end(), 0);
+    for (const Edge& e : tl.edges) ++degree[e.a], ++degree[e.b];
+    for (const Edge& e : tl.edges) {
+      Vec2 a = tf.map(r.points.x[e.a] + 0.5, r.points.y[e.a] + 0.5);
+      Vec2 b = tf.map(r.points.x[e.b] + 0.5, r.points.y[e.b] + 0.5);
+      const double len = std::hypot(b.x - a.x, b.y - a.y);
+      if (len > 0) {
+        const double ga = std::min(crowd_gap_mm(degree[e.a], pen), kCrowdMaxShare * len);
+        const double gb = std::min(crowd_gap_mm(degree[e.b], pen), kCrowdMaxShare * len);
+        const Vec2 u{(b.x - a.x) / len, (b.y - a.y) / len};
+        a = {a.x + u.x * ga, a.y + u.y * ga};
+        b = {b.x - u.x * gb, b.y - u.y * gb};
+      }
+      layer.lines.push_back(Polyline{{a, b}});
+    }
     d.layers.push_back(std::move(layer));
   }
   return d;

@@ -62,8 +62,20 @@ struct TreeResult {
 // tree mst_exact's O(m log m)-like Borůvka over m points (or O(m²) with reference_prim).
 TreeResult tree_pixels(const Image& image, const TreeParams& params);
 
-// Tree segments as 2-point polylines, one pen layer per tree.
+// Tree segments as 2-point polylines, one pen layer per tree. Where so many segments meet
+// that their ink would fill the disc of kCrowdDiscMm around the point (a blot on paper),
+// each stops short of it by the gap that keeps the disc's coverage at kCrowdCoverage
+// (crowd_gap_mm), never by more than kCrowdMaxShare of its length: the lines keep their
+// directions, so the tree keeps its shape. O(points + edges).
+inline constexpr double kCrowdDiscMm = 1.0;
+inline constexpr double kCrowdCoverage = 0.75;
+inline constexpr double kCrowdMaxShare = 0.4;
 Drawing place_tree(const TreeResult& r, const Placement& placement);
+
+// The gap from a point at which `lines` pen lines of `pen_mm` ending there must stop so
+// their ink covers at most `coverage` of a disc of diameter `disc_mm` around it (each line
+// lays pen x (radius - gap) in it): 0 when they already do.
+double crowd_gap_mm(size_t lines, double pen_mm, double disc_mm = kCrowdDiscMm, double coverage = kCrowdCoverage);
 
 // Pure function from image + parameters to a Drawing.
 Drawing tree_drawing(const Image& image, const TreeParams& params, const Placement& placement);

@@ -1,0 +1,83 @@
+// Choosing a method's density for a --time budget against one run of the method at the
+// density chosen. Run: ./build/bench/bench_budget
+//  - BM_StippleSearch: `stipplot stipple coffee.png -o x.svg --time 1h` in process (the
+//    statistics, the pilot that fits the tone curves, the search's runs, the plan and the
+//    SVG); BM_StippleOneRun: the same command drawing once at the knob the search chose
+//    (--knob), with the same plan and SVG. Likewise for sketch (one full run, then the
+//    thinning). The target is <= 2x.
+#include <CLI/CLI.hpp>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "cli/commands.hpp"
+#include "ratio_reporter.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string example(const char* name) {
+  return (fs::path(__FILE__).parent_path().parent_path() / "examples" / name).string();
+}
+
+// Runs a stipplot command line in this process; returns what it printed.
+std::string run_command(const std::vector<std::string>& args) {
+  CLI::App app{"stipplot"};
+  app.require_subcommand(1);
+  stipplot::cli::register_all(app);
+  std::vector<std::string> rev(args.rbegin(), args.rend());
+  const std::string out = (fs::temp_directory_path() / "stipplot_bench_budget.out").string();
+  std::fflush(stdout);
+  const int saved = dup(STDOUT_FILENO);
+  const int fd = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  dup2(fd, STDOUT_FILENO);
+  close(fd);
+  app.parse(rev);
+  std::fflush(stdout);
+  dup2(saved, STDOUT_FILENO);
+  close(saved);
+  std::ifstream in(out);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> command(const char* method) {
+  const std::string svg = (fs::temp_directory_path() / "stipplot_bench_budget.svg").string();
+  return {method, example("coffee.png"), "-o", svg, "--time", "1h", "--json"};
+}
+
+double chosen_knob(const char* method) {
+  return nlohmann::json::parse(run_command(command(method)))["budget"]["knob"].get<double>();
+}
+
+void search(benchmark::State& state, const char* method) {
+  for (auto _ : state) benchmark::DoNotOptimize(run_command(command(method)));
+}
+void one_run(benchmark::State& state, const char* method) {
+  auto args = command(method);
+  const double k = chosen_knob(method);
+  args.push_back("--knob");
+  args.push_back(std::to_string(k));
+  for (auto _ : state) benchmark::DoNotOptimize(run_command(args));
+  state.counters["knob"] = k;
+}
+
+void BM_StippleSearch(benchmark::State& s) { search(s, "stipple"); }
+void BM_StippleOneRun(benchmark::State& s) { one_run(s, "stipple"); }
+void BM_SketchSearch(benchmark::State& s) { search(s, "sketch"); }
+void BM_SketchOneRun(benchmark::State& s) { one_run(s, "sketch"); }
+BENCHMARK(BM_StippleSearch)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_StippleOneRun)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_SketchSearch)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_SketchOneRun)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace
+
+STIPPLOT_BENCH_MAIN({{"BM_StippleOneRun", "BM_StippleSearch"}, {"BM_SketchOneRun", "BM_SketchSearch"}})
