@@ -32,6 +32,8 @@ function fmtTime(s) {
 const GROUP_TITLES = { Options: 'Variant', Page: 'Page, margins and pen', Output: 'Device', Planning: 'Planning', Paths: 'Paths', Input: 'Input' };
 const OPEN_GROUPS = new Set(['Options', 'Page', 'Output']);
 const isNumber = (s) => /^-?\d*\.?\d+(e-?\d+)?$/i.test(String(s).trim());
+// A length written with its unit ("15px"): a slider over the number, the unit kept.
+const withUnit = (s) => /^(-?\d*\.?\d+)(px|mm|cm|in|pt)$/i.exec(String(s).trim());
 
 function sliderRange(opt) {
   const d = parseFloat(opt.default);
@@ -73,21 +75,25 @@ function makeControl(opt) {
     input.value = opt.choices.includes(opt.default) ? opt.default : opt.choices[0];
     row.appendChild(input);
     input.addEventListener('change', () => changed(false));
-  } else if (isNumber(opt.default) && !/seed/.test(opt.name)) {
+  } else if ((isNumber(opt.default) || withUnit(opt.default)) && !/seed/.test(opt.name)) {
     row.className = 'ctl-row';
+    const unit = withUnit(opt.default);
+    const number = unit ? unit[1] : opt.default;
     const range = document.createElement('input');
     range.type = 'range';
-    Object.assign(range, sliderRange(opt));
-    range.value = opt.default;
+    Object.assign(range, sliderRange({ ...opt, default: number }));
+    range.value = number;
     input = document.createElement('input');
     input.type = 'number';
     input.step = 'any';
-    input.value = opt.default;
+    input.value = number;
+    if (unit) input.dataset.suffix = unit[2];
     range.addEventListener('input', () => { input.value = range.value; changed(true); });
     range.addEventListener('change', () => { input.value = range.value; changed(false); });
     input.addEventListener('change', () => { range.value = input.value; changed(false); });
     range.id = id + '_range';
     row.append(range, input);
+    if (unit) { const u = document.createElement('span'); u.className = 'unit'; u.textContent = unit[2]; row.appendChild(u); }
   } else {
     input = document.createElement('input');
     input.type = isNumber(opt.default) ? 'number' : 'text';
@@ -139,7 +145,8 @@ function currentSettings() {
     let differs;
     if (o.flag) { differs = el.checked; if (differs) options[o.name] = true; }
     else {
-      const v = String(el.value).trim();
+      let v = String(el.value).trim();
+      if (el.dataset.suffix && isNumber(v)) v += el.dataset.suffix;
       differs = v !== '' && !(v === o.default || (isNumber(v) && isNumber(o.default) && parseFloat(v) === parseFloat(o.default)));
       if (differs) options[o.name] = v;
     }
