@@ -8,8 +8,10 @@ bash scripts/setup.sh
 bash scripts/build.sh build
 mkdir -p out
 S=./build/src/cli/stipplot
-$S stipple examples/horse.png -o out/horse.svg --preview out/horse.png -a 2 -b 8 --landscape
-$S stipple examples/horse.png -o out/horse.gcode -a 2 -b 8 --landscape --profile grbl-servo
-$S plot out/horse.gcode --profile grbl-servo --sim --sim-speedup 200 --sim-out out/horse-plotted
+# The defaults: A4, a 0.3 mm pen, the tone law, a plot of about an hour on grbl-servo.
+$S stipple examples/horse.png -o out/horse.svg --preview out/horse.png --landscape
+$S stipple examples/horse.png -o out/horse.gcode --landscape --profile grbl-servo
+# The hour's plot at 100x: about 40 s on the simulator.
+$S plot out/horse.gcode --profile grbl-servo --sim --sim-speedup 100 --sim-out out/horse-plotted
 echo "demo: out/horse.svg (drawing), out/horse.png (preview), out/horse.gcode (job),"
 echo "      out/horse-plotted.png/.svg (what the simulated plotter drew)"
