@@ -29,13 +29,7 @@ HpglSimConfig hpgl_sim_config(const DeviceProfile& p) {
 
 HpglSim::HpglSim(const HpglSimConfig& cfg)
     : SimDevice(cfg), cfg_(cfg), vs_mm_s_(cfg.motion.speed_down_mm_s) {
-  plotter_.speed_down_mm_s = cfg.motion.speed_down_mm_s;
-  plotter_.speed_up_mm_s = cfg.motion.speed_up_mm_s;
-  plotter_.accel_mm_s2 = cfg.motion.accel_mm_s2;
-  plotter_.pen_lift_s = cfg.motion.pen_lift_s;
-  plotter_.pen_drop_s = cfg.motion.pen_drop_s;
-  plotter_.pen_change_s = cfg.motion.pen_change_s > 0 ? cfg.motion.pen_change_s : 1.0;
-  plotter_.units_per_mm = cfg.units_per_mm;
+  plotter_ = motion::hpgl_motion_of(cfg.motion, cfg.units_per_mm);
   if (cfg.buffer_bytes < 64) throw UserError("simulated HPGL plotter: buffer must be at least 64 bytes");
   if (!(cfg.units_per_mm > 0)) throw UserError("simulated HPGL plotter: units per mm must be > 0");
   if (cfg.xoff_free >= cfg.xon_free || cfg.xon_free > cfg.buffer_bytes)

@@ -18,16 +18,7 @@ motion::GrblSettings grbl_settings_for(const DeviceProfile& p) {
 }
 
 motion::HpglMotion hpgl_motion_for(const DeviceProfile& p) {
-  motion::HpglMotion h;
-  h.speed_down_mm_s = p.motion.speed_down_mm_s;
-  h.speed_up_mm_s = p.motion.speed_up_mm_s;
-  h.accel_mm_s2 = p.motion.accel_mm_s2;
-  h.pen_lift_s = p.motion.pen_lift_s;
-  h.pen_drop_s = p.motion.pen_drop_s;
-  // A carousel always takes some time to turn; a profile without pen_change_s gets 1 s.
-  h.pen_change_s = p.motion.pen_change_s > 0 ? p.motion.pen_change_s : 1.0;
-  h.units_per_mm = p.machine.units_per_mm;
-  return h;
+  return motion::hpgl_motion_of(p.motion, p.machine.units_per_mm);
 }
 
 }  // namespace stipplot

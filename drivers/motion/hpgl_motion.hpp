@@ -4,6 +4,8 @@
 // corners), accelerated per axis (each has its own motor), at VS (pen down) or the
 // travel speed (pen up); pens go up and down in a fixed time, and a carousel takes a
 // fixed time to fetch or stow a pen (SP).
+#include "drivers/motion/motion_params.hpp"
+
 namespace stipplot::motion {
 
 struct HpglMotion {
@@ -14,6 +16,10 @@ struct HpglMotion {
   double pen_change_s = 1.0;     // SP
   double units_per_mm = 40;
 };
+
+// The plotter's model from a profile's motion limits. A carousel always takes some time
+// to turn: without pen_change_s it gets 1 s.
+HpglMotion hpgl_motion_of(const MotionParams& m, double units_per_mm);
 
 // Seconds for a start-stop move of `len` mm at cruise `v` with acceleration `a`. O(1).
 double start_stop_seconds(double len, double v, double a);
