@@ -21,11 +21,17 @@ let passed = 0, failed = 0;
 function check(ok, what) {
   if (ok) { passed++; console.log('ok   ' + what); } else { failed++; console.log('FAIL ' + what); }
 }
+// Whatever ends this process (a failed check, an exception, the deadline), the server goes
+// with it: a server left running would hold CTest's pipe open until CTest's own timeout.
+let server = null;
+process.on('exit', () => { if (server) server.kill('SIGKILL'); });
+process.on('uncaughtException', (e) => { console.log('FAIL ' + (e.stack || e)); process.exit(1); });
+process.on('unhandledRejection', (e) => { console.log('FAIL ' + (e && e.stack || e)); process.exit(1); });
 const deadline = setTimeout(() => { console.error('FAIL the browser test took over 240 s'); process.exit(1); }, 240_000);
 
 const work = mkdtempSync(join(tmpdir(), 'stipplot-studio-'));
 const profile = mkdtempSync(join(tmpdir(), 'stipplot-chromium-'));
-const server = spawn(stipplot, ['serve', '--port', '0', '--sim-speedup', '30'], { cwd: work, stdio: ['ignore', 'pipe', 'inherit'] });
+server = spawn(stipplot, ['serve', '--port', '0', '--sim-speedup', '30'], { cwd: work, stdio: ['ignore', 'pipe', 'inherit'] });
 const url = await new Promise((resolve, reject) => {
   let out = '';
   server.stdout.on('data', (d) => { out += d; const m = out.match(/open (http:\/\/\S+)/); if (m) resolve(m[1]); });
@@ -59,9 +65,12 @@ try {
 
   // Drag the -b slider: reduced previews while it moves, the full one when let go.
   const slider = page.locator('#opt_b_range');
-  const drafts = [];
-  page.on('response', async (r) => {
-    if (r.url().endsWith('/api/preview') && r.status() === 200) drafts.push((await r.json()).draft);
+  // Which previews were shown, read from the page itself: a response body can be gone by
+  // the time a listener asks for it (a newer preview replaced it).
+  await page.evaluate(() => {
+    window.shownDrafts = [];
+    new MutationObserver(() => window.shownDrafts.push(document.body.dataset.previewDraft))
+      .observe(document.body, { attributes: true, attributeFilter: ['data-preview-draft'] });
   });
   for (const v of ['18', '22', '26']) {
     const answered = page.waitForResponse((r) => r.url().endsWith('/api/preview'), { timeout: 30_000 });
@@ -75,7 +84,7 @@ try {
   const bytes = async (src) => Buffer.from(await (await fetch(new URL(src, url))).arrayBuffer());
   check(second.src !== first.src && !(await bytes(first.src)).equals(await bytes(second.src)), 'changing -b changes the preview image');
   check(second.marks !== first.marks, `and its mark count (${first.marks} -> ${second.marks})`);
-  check(drafts.includes(true), 'dragging previews the reduced photo');
+  check((await page.evaluate(() => window.shownDrafts)).includes('1'), 'dragging previews the reduced photo');
   const cli = (await page.textContent('#cli')).trim();
   check(cli.includes(' -b 30'), 'the command line carries the change: ' + cli);
 
