@@ -23,21 +23,20 @@ Vec2 MachineTransform::to_machine_mm(Vec2 p) const {
   return {m_.x_sign * (dx - m_.origin_offset_x_mm), m_.y_sign * (dy - m_.origin_offset_y_mm)};
 }
 
+Vec2 MachineTransform::to_page_mm(Vec2 mm) const {
+  const double dy = mm.y / m_.y_sign + m_.origin_offset_y_mm;
+  return {mm.x / m_.x_sign + m_.origin_offset_x_mm, m_.origin == Origin::top_left ? dy : page_h_ - dy};
+}
+
 Vec2 MachineTransform::page_position_of_machine_zero() const {
   return {m_.origin_offset_x_mm,
           m_.origin == Origin::top_left ? m_.origin_offset_y_mm : page_h_ - m_.origin_offset_y_mm};
 }
 
 Rect MachineTransform::reach_on_page() const {
-  // Machine (mx, my) back to the page: the inverse of to_machine_mm at the travel's corners.
-  auto page_x = [&](double mx) { return mx / m_.x_sign + m_.origin_offset_x_mm; };
-  auto page_y = [&](double my) {
-    const double dy = my / m_.y_sign + m_.origin_offset_y_mm;
-    return m_.origin == Origin::top_left ? dy : page_h_ - dy;
-  };
-  const double xa = page_x(lo_.x * step_), xb = page_x(hi_.x * step_);
-  const double ya = page_y(lo_.y * step_), yb = page_y(hi_.y * step_);
-  return {std::min(xa, xb), std::min(ya, yb), std::max(xa, xb), std::max(ya, yb)};
+  // The travel's corners back on the page.
+  const Vec2 p = to_page_mm({lo_.x * step_, lo_.y * step_}), q = to_page_mm({hi_.x * step_, hi_.y * step_});
+  return {std::min(p.x, q.x), std::min(p.y, q.y), std::max(p.x, q.x), std::max(p.y, q.y)};
 }
 
 Steps MachineTransform::to_steps(Vec2 page_mm) const {

@@ -21,6 +21,8 @@ class MachineTransform {
   MachineTransform(const DeviceProfile& profile, const Page& page);
   // Machine position in mm (not rounded).
   Vec2 to_machine_mm(Vec2 page_mm) const;
+  // Its inverse: where a machine position (mm) lies on the page.
+  Vec2 to_page_mm(Vec2 machine_mm) const;
   // Rounded to the device's resolution.
   Steps to_steps(Vec2 page_mm) const;
   bool inside(Steps s) const {

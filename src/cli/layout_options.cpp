@@ -159,7 +159,11 @@ Drawing lay_out_for_device(Drawing d, const LayoutArgs& a, const DeviceProfile* 
                        {"margin_mm", o.margin_mm},
                        {"cropped", rep.cropped.total()},
                        {"clipped_cut", rep.clipped.cut},
-                       {"clipped_dropped", rep.clipped.dropped}};
+                       {"clipped_dropped", rep.clipped.dropped},
+                       // The drawing's page -> the sheet (x' = a x + c y + e, y' = b x + d y + f):
+                       // how the studio draws a plot's progress over the method's preview.
+                       {"transform", {rep.transform.a, rep.transform.b, rep.transform.c, rep.transform.d,
+                                      rep.transform.e, rep.transform.f}}};
   phrase = layout::describe(rep);
   return out;
 }

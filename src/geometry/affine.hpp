@@ -18,6 +18,11 @@ struct Affine {
             b * o.c + d * o.d, a * o.e + c * o.f + e, b * o.e + d * o.f + f};
   }
   double det() const { return a * d - b * c; }
+  // The map back (det must not be 0).
+  Affine inverse() const {
+    const double k = 1 / det();
+    return {d * k, -b * k, -c * k, a * k, (c * f - d * e) * k, (b * e - a * f) * k};
+  }
   // Largest stretch of a unit vector (largest singular value).
   double max_scale() const {
     double p = (a * a + b * b + c * c + d * d) / 2, q = std::sqrt(std::max(0.0, p * p - det() * det()));

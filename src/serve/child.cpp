@@ -120,4 +120,12 @@ ChildResult run_child(const std::vector<std::string>& argv, const std::string& c
   return c.wait();
 }
 
+nlohmann::json last_json_line(const std::string& out) {
+  const size_t end = out.find_last_not_of('\n');
+  if (end == std::string::npos) return nlohmann::json::object();
+  const size_t start = out.rfind('\n', end);
+  auto j = nlohmann::json::parse(out.substr(start == std::string::npos ? 0 : start + 1, end + 1), nullptr, false);
+  return j.is_discarded() ? nlohmann::json::object() : j;
+}
+
 }  // namespace stipplot::serve

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <functional>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,9 @@ class Child {
 };
 
 // Runs argv to its end. O(output).
+// A child's --json line (the last line it printed) as JSON; an empty object when it is not.
+nlohmann::json last_json_line(const std::string& out);
+
 ChildResult run_child(const std::vector<std::string>& argv, const std::string& cwd = "");
 
 }  // namespace stipplot::serve

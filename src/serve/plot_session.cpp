@@ -75,7 +75,13 @@ bool PlotSession::make_job() {
   }
   c.start(req_.make_job, req_.workdir.string());
   const ChildResult r = c.wait();
-  if (r.exit_code == 0) return true;
+  if (r.exit_code == 0) {
+    // Without a summary the progress is drawn as if the job lay on the sheet unchanged.
+    const json summary = last_json_line(r.out);
+    std::lock_guard<std::mutex> lock(m_);
+    req_.method_summary = summary;
+    return true;
+  }
   std::lock_guard<std::mutex> lock(m_);
   state_["status"] = "failed";
   const size_t at = r.err.rfind("stipplot:");
@@ -91,7 +97,12 @@ void PlotSession::load_trace() {
     const DeviceProfile dev = find_profile(req_.profile);
     const bool hpgl = fs::path(req_.job).extension() == ".hpgl";
     const io::Job job = hpgl ? io::parse_hpgl_job(ss.str()) : io::parse_gcode_job(ss.str(), gcode_pen_rule(dev));
-    json t = job_trace(job, dev.machine.y_up(), hpgl ? dev.machine.units_per_mm : 1.0);
+    json summary;
+    {
+      std::lock_guard<std::mutex> lock(m_);
+      summary = req_.method_summary;
+    }
+    json t = job_trace(job, dev, hpgl, placement_from_summary(summary, dev));
     std::lock_guard<std::mutex> lock(m_);
     trace_ = std::move(t);
     state_["lines"] = job.lines.size();
@@ -170,6 +181,11 @@ void PlotSession::finish(const ChildResult& r) {
 json PlotSession::state() const {
   std::lock_guard<std::mutex> lock(m_);
   return state_;
+}
+
+json PlotSession::method_summary() const {
+  std::lock_guard<std::mutex> lock(m_);
+  return req_.method_summary;
 }
 
 json PlotSession::trace() const {

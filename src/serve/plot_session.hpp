@@ -22,6 +22,9 @@ struct PlotRequest {
   std::string job;      // plot-N.gcode / .hpgl, in the working folder
   std::string profile;
   std::vector<std::string> make_job;  // empty when resuming
+  // The job maker's --json summary (its page and layout: where the progress is drawn
+  // over the preview); a resumed plot carries the first session's.
+  nlohmann::json method_summary = nullptr;
   bool resume = false;  // continue the job from its journal
   double sim_speedup = 20;
 };
@@ -42,6 +45,7 @@ class PlotSession {
   bool can_resume() const;
   const std::string& job() const { return req_.job; }
   const std::string& profile() const { return req_.profile; }
+  nlohmann::json method_summary() const;
   void join();
   void abort_and_join();
 

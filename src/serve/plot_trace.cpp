@@ -1,21 +1,39 @@
 #include "serve/plot_trace.hpp"
 
-#include <algorithm>
-#include <limits>
+#include "drivers/device/machine.hpp"
 
 namespace stipplot::serve {
 
-nlohmann::json job_trace(const io::Job& job, bool y_up, double units_per_mm) {
+TracePlacement placement_from_summary(const nlohmann::json& s, const DeviceProfile& device) {
+  TracePlacement p;
+  p.page_w_mm = device.machine.sheet_width_mm;
+  p.page_h_mm = device.machine.sheet_height_mm;
+  if (s.is_object() && s.contains("page_mm") && s["page_mm"].size() == 2) {
+    p.page_w_mm = s["page_mm"][0].get<double>();
+    p.page_h_mm = s["page_mm"][1].get<double>();
+  }
+  if (s.is_object() && s.contains("layout") && s["layout"].contains("transform")) {
+    const auto& t = s["layout"]["transform"];
+    const Affine a{t[0].get<double>(), t[1].get<double>(), t[2].get<double>(),
+                   t[3].get<double>(), t[4].get<double>(), t[5].get<double>()};
+    if (a.det() != 0) p.page_to_sheet = a;
+  }
+  return p;
+}
+
+nlohmann::json job_trace(const io::Job& job, const DeviceProfile& device, bool hpgl, const TracePlacement& where) {
+  const Page sheet{device.machine.sheet_width_mm, device.machine.sheet_height_mm};
+  const MachineTransform machine(device, sheet);
+  const Affine sheet_to_page = where.page_to_sheet.inverse();
+  // G-code coordinates are machine millimetres; HPGL's are plotter units (steps).
+  const double mm_per_unit = hpgl ? machine.step_mm() : 1.0;
+  auto on_page = [&](double x, double y) { return sheet_to_page.apply(machine.to_page_mm({x * mm_per_unit, y * mm_per_unit})); };
   nlohmann::json segs = nlohmann::json::array();
   double x = 0, y = 0;
   bool down = false;
-  double lo_x = std::numeric_limits<double>::max(), lo_y = lo_x, hi_x = -lo_x, hi_y = -lo_x;
   auto add = [&](size_t line, double x0, double y0, double x1, double y1) {
-    segs.push_back({line, x0, y0, x1, y1});
-    lo_x = std::min({lo_x, x0, x1});
-    hi_x = std::max({hi_x, x0, x1});
-    lo_y = std::min({lo_y, y0, y1});
-    hi_y = std::max({hi_y, y0, y1});
+    const Vec2 p = on_page(x0, y0), q = on_page(x1, y1);
+    segs.push_back({line, p.x, p.y, q.x, q.y});
   };
   for (size_t i = 0; i < job.lines.size(); ++i) {
     const io::JobLine& l = job.lines[i];
@@ -27,12 +45,7 @@ nlohmann::json job_trace(const io::Job& job, bool y_up, double units_per_mm) {
     }
     down = l.pen_down;
   }
-  if (segs.empty()) lo_x = lo_y = hi_x = hi_y = 0;
-  return {{"lines", job.lines.size()},
-          {"y_up", y_up},
-          {"units_per_mm", units_per_mm},
-          {"bounds", {lo_x, lo_y, hi_x, hi_y}},
-          {"segments", segs}};
+  return {{"lines", job.lines.size()}, {"page_mm", {where.page_w_mm, where.page_h_mm}}, {"segments", segs}};
 }
 
 }  // namespace stipplot::serve

@@ -47,14 +47,6 @@ std::string error_line(const ChildResult& r) {
   return last.substr(std::string("stipplot: ").size());
 }
 
-json last_json_line(const std::string& out) {
-  const size_t end = out.find_last_not_of('\n');
-  if (end == std::string::npos) return json::object();
-  const size_t start = out.rfind('\n', end);
-  json j = json::parse(out.substr(start == std::string::npos ? 0 : start + 1, end + 1), nullptr, false);
-  return j.is_discarded() ? json::object() : j;
-}
-
 const char* content_type_of(const fs::path& p) {
   const std::string e = p.extension().string();
   if (e == ".png") return "image/png";
@@ -124,12 +116,15 @@ struct Studio::Impl {
     return "gcode";
   }
 
-  // The command line that makes the drawing `output` from the full-size photo.
+  // The command line that makes the drawing `output` from the full-size photo for
+  // `profile`. Always named: the profile's sheet is the page and its speeds are the
+  // budget's, so the preview, the downloads and the plot are one drawing.
   std::vector<std::string> method_argv(const Settings& s, const std::string& input, const std::string& output,
-                                       bool with_profile) const {
+                                       const std::string& profile) const {
     std::vector<std::string> argv = {cfg.executable, s.method, input, "-o", output};
-    const auto opts = option_args(s, cfg.methods, {}, with_profile ? std::vector<std::string>{} : std::vector<std::string>{"--profile"});
+    const auto opts = option_args(s, cfg.methods, {}, {"--profile"});
     argv.insert(argv.end(), opts.begin(), opts.end());
+    argv.push_back("--profile=" + profile);
     return argv;
   }
 
@@ -156,7 +151,8 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
   }
   const uint64_t gen = begin_preview(s, draft);
   const std::string stem = "previews/p" + std::to_string(gen);
-  std::vector<std::string> argv = method_argv(s, input, stem + ".svg", false);
+  const std::string profile = profile_for(s, "");
+  std::vector<std::string> argv = method_argv(s, input, stem + ".svg", profile);
   for (const char* a : {"--preview", "", "--preview-dpi", "", "--json"}) argv.push_back(a);
   argv[argv.size() - 4] = stem + ".png";
   argv[argv.size() - 2] = draft ? "80" : "150";  // a draft only has to look right on screen
@@ -165,16 +161,18 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
   if (made->exit_code != 0) throw RequestError(400, error_line(*made));
   json summary = last_json_line(made->out);
 
-  const std::string profile = profile_for(s, "");
   const std::string job = stem + (dialect_of_profile(profile) == "hpgl" ? ".hpgl" : ".gcode");
   std::vector<std::string> plan = {cfg.executable, "export", stem + ".svg", "-o", job, "--profile", profile, "--json"};
   const auto plan_opts = option_args(s, cfg.methods, {"Planning", "Paths"});
   plan.insert(plan.end(), plan_opts.begin(), plan_opts.end());
   if (draft) plan.push_back("--optimize-seconds=0");  // the greedy plan while dragging: an estimate a little high
   std::vector<std::string> eval = {cfg.executable, "eval", input, stem + ".png", "--json"};
-  for (const char* o : {"--page", "--margin", "--pen-width"})
+  // The page the method drew on (the profile's sheet unless --page says otherwise).
+  if (summary.contains("page_mm") && summary["page_mm"].size() == 2)
+    eval.push_back("--page=" + std::to_string(summary["page_mm"][0].get<double>()) + "x" +
+                   std::to_string(summary["page_mm"][1].get<double>()) + "mm");
+  for (const char* o : {"--margin", "--pen-width"})
     if (s.has(o)) eval.push_back(std::string(o) + "=" + s.value_of(o, ""));
-  if (s.has("--landscape")) eval.push_back("--landscape");
   std::optional<ChildResult> planned, judged;
   std::exception_ptr judge_failed;
   std::thread judge([&] {
@@ -208,7 +206,7 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
     out["plan_error"] = error_line(*planned);
   }
   if (judged->exit_code == 0) out["fidelity"] = last_json_line(judged->out).value("ssim_blurred", 0.0);
-  std::vector<std::string> shown = method_argv(s, photo_name, "drawing.svg", false);
+  std::vector<std::string> shown = method_argv(s, photo_name, "drawing.svg", profile);
   shown[0] = "stipplot";
   shown.insert(shown.begin() + 5, {"--preview", "drawing.png"});
   out["command"] = shell_line(shown);
@@ -349,12 +347,7 @@ void Studio::Impl::file_routes() {
       input = photo->name;
     }
     const std::string name = "drawing." + kind;
-    std::vector<std::string> argv = method_argv(s, input, name, kind != "svg");
-    if (kind != "svg") {
-      argv.erase(std::remove_if(argv.begin(), argv.end(), [](const std::string& a) { return a.rfind("--profile=", 0) == 0; }),
-                 argv.end());
-      argv.push_back("--profile=" + profile_for(s, kind));
-    }
+    const std::vector<std::string> argv = method_argv(s, input, name, profile_for(s, kind == "svg" ? "" : kind));
     Child c;
     c.start(argv, cfg.workdir.string());
     const ChildResult r = c.wait();
@@ -411,14 +404,15 @@ void Studio::Impl::plot_routes() {
       if (it == plots.end() || !it->second->can_resume()) throw RequestError(409, "no stopped plot on " + port + " to resume");
       pr.job = it->second->job();
       pr.profile = it->second->profile();
+      pr.method_summary = it->second->method_summary();
       pr.resume = true;
     } else {
       if (!photo || !settings) throw RequestError(409, "upload a photo and make a preview first");
       pr.profile = profile_for(*settings, "");
       const bool hpgl = dialect_of_profile(pr.profile) == "hpgl";
       pr.job = "plot-" + std::to_string(++plot_count) + (hpgl ? ".hpgl" : ".gcode");
-      pr.make_job = method_argv(*settings, photo->name, pr.job, true);
-      if (!settings->has("--profile")) pr.make_job.push_back("--profile=" + pr.profile);
+      pr.make_job = method_argv(*settings, photo->name, pr.job, pr.profile);
+      pr.make_job.push_back("--json");  // its page and layout place the progress over the preview
     }
     if (it != plots.end()) it->second->join();
     auto session = std::make_shared<PlotSession>(pr);

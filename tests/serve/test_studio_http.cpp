@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "cli/commands.hpp"
+#include "image/image.hpp"
 #include "serve/child.hpp"
 #include "serve/option_schema.hpp"
 #include "serve/studio.hpp"
@@ -169,7 +170,8 @@ TEST_CASE("serve http: a photo previews and plots on the simulator as the CLI do
   CHECK(p["marks"].get<int>() > 100);
   CHECK(p["plot_s"].get<double>() > 0);
   CHECK(p["fidelity"].get<double>() > 0);
-  CHECK(p["command"] == "stipplot stipple photo.png -o drawing.svg --preview drawing.png -b 20 --seed=3");
+  // The profile is named: its sheet is the page, as for the plot's job.
+  CHECK(p["command"] == "stipplot stipple photo.png -o drawing.svg --preview drawing.png -b 20 --seed=3 --profile=grbl-servo");
   auto png_r = cl.Get(("" + p["preview"].get<std::string>()).c_str());
   CHECK(png_r->status == 200);
   CHECK(png_r->get_header_value("Content-Type") == "image/png");
@@ -196,9 +198,31 @@ TEST_CASE("serve http: a photo previews and plots on the simulator as the CLI do
                               "--profile=grbl-servo"}, cli.path.string());
   REQUIRE(run.exit_code == 0);
   CHECK(read_all(cli.file("job.gcode")) == read_all(dir.file(job)));
-  // A second start while nothing runs is fine; the trace names every drawn line.
+  // The trace names every drawn line, placed on the preview's page: each of its dots lies
+  // on ink in the preview (the page draws the plot's progress over it).
   const json trace = json::parse(cl.Get("/api/plot/trace?port=sim")->body);
-  CHECK(trace["segments"].size() > 100);
+  REQUIRE(trace["segments"].size() > 100);
+  const stipplot::Image shown = stipplot::decode_image(reinterpret_cast<const uint8_t*>(png_r->body.data()),
+                                                       png_r->body.size(), "preview.png");
+  const double pw = trace["page_mm"][0], ph = trace["page_mm"][1];
+  auto inked_near = [&](double x_mm, double y_mm) {
+    const int cx = static_cast<int>(x_mm / pw * shown.width), cy = static_cast<int>(y_mm / ph * shown.height);
+    for (int y = cy - 1; y <= cy + 1; ++y)
+      for (int x = cx - 1; x <= cx + 1; ++x)
+        if (x >= 0 && y >= 0 && x < shown.width && y < shown.height &&
+            stipplot::luma601(shown.channel(x, y, 0), shown.channel(x, y, 1), shown.channel(x, y, 2)) < 128)
+          return true;
+    return false;
+  };
+  size_t on_ink = 0, shifted_on_ink = 0;
+  for (const auto& seg : trace["segments"]) {
+    on_ink += inked_near(seg[3], seg[4]);
+    shifted_on_ink += inked_near(seg[3].get<double>() + 3, seg[4].get<double>() + 3);  // 3 mm off: the control
+  }
+  const double n = static_cast<double>(trace["segments"].size());
+  INFO("trace points on the preview's ink: " << on_ink << " of " << n << ", 3 mm off: " << shifted_on_ink);
+  CHECK(on_ink >= 0.98 * n);
+  CHECK(shifted_on_ink < 0.5 * n);
 }
 
 namespace {

@@ -195,6 +195,7 @@ function showPreview(p, ms) {
       el.hidden = false;
       el.dataset.gen = p.gen;
       el.dataset.draft = p.draft ? '1' : '0';
+      if (view === 'plot') placeCanvases();
       $('empty').style.display = 'none';
       $('s-marks').textContent = p.marks.toLocaleString('en');
       $('s-time').textContent = p.plot_s != null ? fmtTime(p.plot_s) : '–';
@@ -252,7 +253,9 @@ function setView(v) {
   $('tab-plot').classList.toggle('on', v === 'plot');
   $('plotcanvas').style.display = v === 'plot' ? 'block' : 'none';
   $('pencanvas').style.display = v === 'plot' ? 'block' : 'none';
-  $('preview').style.visibility = v === 'plot' ? 'hidden' : 'visible';
+  // The plot is drawn over the preview: what is still to come stays faint underneath.
+  $('preview').classList.toggle('faded', v === 'plot');
+  if (v === 'plot') placeCanvases();
 }
 
 async function loadTrace(job) {
@@ -264,16 +267,27 @@ async function loadTrace(job) {
   } catch (e) { /* not made yet */ }
 }
 
-// The job as planned, faint; then what the plotter has acknowledged, in ink.
+// The trace is in the method page's millimetres, where the preview shows the drawing; the
+// canvases lie exactly over the preview image (or, with no preview, alone on white).
+function overPreview() { const img = $('preview'); return !img.hidden && img.naturalWidth > 0; }
+function placeCanvases() {
+  const view_ = $('view'), img = $('preview');
+  for (const c of [$('plotcanvas'), $('pencanvas')]) {
+    if (overPreview()) {
+      const r = img.getBoundingClientRect(), v = view_.getBoundingClientRect();
+      Object.assign(c.style, { left: (r.left - v.left) + 'px', top: (r.top - v.top) + 'px', width: r.width + 'px', height: r.height + 'px' });
+    } else {
+      Object.assign(c.style, { left: '', top: '', width: '', height: '' });
+    }
+  }
+}
 function traceTransform() {
   const c = $('plotcanvas');
-  const [x0, y0, x1, y1] = trace.bounds;
-  const w = Math.max(x1 - x0, 1e-9), h = Math.max(y1 - y0, 1e-9);
-  const pad = 24;
-  c.width = 900; c.height = Math.round(900 * Math.min(1.6, Math.max(0.6, h / w)));
-  const s = Math.min((c.width - 2 * pad) / w, (c.height - 2 * pad) / h);
-  const ox = (c.width - s * w) / 2, oy = (c.height - s * h) / 2;
-  return (x, y) => [ox + (x - x0) * s, trace.y_up ? c.height - oy - (y - y0) * s : oy + (y - y0) * s];
+  const [pw, ph] = trace.page_mm;
+  c.width = 1400; c.height = Math.round(1400 * ph / pw);
+  const s = c.width / pw;
+  trace.px_per_mm = s;
+  return (x, y) => [x * s, y * s];
 }
 function strokeSegments(ctx, tf, from, to, style, width) {
   ctx.strokeStyle = style; ctx.fillStyle = style; ctx.lineWidth = width; ctx.lineCap = 'round';
@@ -289,18 +303,22 @@ function strokeSegments(ctx, tf, from, to, style, width) {
   ctx.stroke();
   ctx.fill(dots);
 }
+function inkWidth() { return Math.max(1.6, 0.3 * trace.px_per_mm); }
 function drawTraceBase() {
   const c = $('plotcanvas'), ctx = c.getContext('2d');
-  ctx.fillStyle = '#fff'; ctx.fillRect(0, 0, c.width, c.height);
   trace.tf = traceTransform();
-  strokeSegments(ctx, trace.tf, 0, trace.segments.length, 'rgba(100,116,139,0.30)', 1.5);
+  placeCanvases();
+  ctx.clearRect(0, 0, c.width, c.height);
+  for (const k of ['plotcanvas', 'pencanvas']) $(k).classList.toggle('alone', !overPreview());
+  // No preview to draw over (a journal resumed after the page was reloaded): the job, faint.
+  if (!overPreview()) strokeSegments(ctx, trace.tf, 0, trace.segments.length, 'rgba(100,116,139,0.30)', inkWidth());
 }
 function drawTraceUpTo(linesAcked) {
   if (!trace) return;
   const ctx = $('plotcanvas').getContext('2d');
   let end = drawnUpTo;
   while (end < trace.segments.length && trace.segments[end][0] < linesAcked) end++;
-  if (end > drawnUpTo) strokeSegments(ctx, trace.tf, drawnUpTo, end, '#0f172a', 1.6);
+  if (end > drawnUpTo) strokeSegments(ctx, trace.tf, drawnUpTo, end, '#0f766e', inkWidth());
   drawnUpTo = end;
   // Where the pen is: a ring over the last mark on the paper (an overlay canvas keeps
   // the drawing underneath intact).
@@ -309,8 +327,8 @@ function drawTraceUpTo(linesAcked) {
   if (drawnUpTo > 0 && drawnUpTo < trace.segments.length) {
     const [, , , x, y] = trace.segments[drawnUpTo - 1];
     const [px, py] = trace.tf(x, y);
-    rctx.strokeStyle = '#0d9488'; rctx.lineWidth = 2.5;
-    rctx.beginPath(); rctx.arc(px, py, 9, 0, 2 * Math.PI); rctx.stroke();
+    rctx.strokeStyle = '#f97316'; rctx.lineWidth = 4;
+    rctx.beginPath(); rctx.arc(px, py, 14, 0, 2 * Math.PI); rctx.stroke();
   }
 }
 
@@ -386,6 +404,7 @@ async function init() {
   $('copy-cli').addEventListener('click', () => navigator.clipboard && navigator.clipboard.writeText($('cli').textContent));
   $('tab-preview').addEventListener('click', () => setView('preview'));
   $('tab-plot').addEventListener('click', () => setView('plot'));
+  window.addEventListener('resize', () => { if (view === 'plot') placeCanvases(); });
   $('plot-start').addEventListener('click', () => { trace = null; traceJob = null; setView('plot'); plotCommand('start'); });
   $('plot-pause').addEventListener('click', () => plotCommand('pause'));
   $('plot-resume').addEventListener('click', () => plotCommand('resume'));
