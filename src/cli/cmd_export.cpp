@@ -50,7 +50,7 @@ void register_export(CLI::App& app) {
   cmd->add_option("--profile", args->profile, "Device profile NAME or PATH (see `stipplot profiles`)")
       ->capture_default_str()->group("Output");
   cmd->add_flag("--show-travel", args->show_travel, "Planned SVG: add the pen-up travel as a hidden layer")->group("Output");
-  cmd->add_option("--preview", args->preview, "Also write a preview PNG of the drawing as laid out on the sheet")->group("Output");
+  cmd->add_option("--preview", args->preview, "Also write a pen-true preview PNG of the plan: what the pens will draw on the sheet")->group("Output");
   add_report_options(cmd, args->report);
   cmd->add_option("--tolerance", args->tolerance, "Curve flattening tolerance: mm (0.05, 0.05mm), cm, in, pt or px (1/96 in)")->capture_default_str()->group("Input");
   cmd->add_option("--pen-width", args->pen_width, "Pen width where the SVG gives no stroke width: mm (0.3, 0.3mm), cm, in, pt or px (1/96 in)")
@@ -90,9 +90,10 @@ void register_export(CLI::App& app) {
     s["page_mm"] = {d.page.width_mm, d.page.height_mm};
     s["primitives"] = d.primitive_count();
     s["seconds_read"] = read_s;
-    write_planned_output(d, a.output, a.profile, a.plan, a.show_travel, s);
+    const Plan plan = write_planned_output(d, a.output, a.profile, a.plan, a.show_travel, s);
     if (!a.preview.empty()) {
-      write_preview_png(d, a.preview, PreviewOptions{});
+      // What the pens will draw: the plan as written, at its pens' widths and colours.
+      write_png(render_plan(plan), a.preview);
       s["preview"] = a.preview;
     }
     s["seconds"] = seconds_since(t0);

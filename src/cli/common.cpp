@@ -116,7 +116,7 @@ void write_plan_file(const Plan& plan, const std::string& path, const DeviceProf
   }
 }
 
-void write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
+Plan write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
                           const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary) {
   const OutputKind kind = output_kind(path);
   DeviceProfile prof = find_profile(profile);
@@ -136,6 +136,7 @@ void write_planned_output(const Drawing& d, const std::string& path, const std::
   // Only a tripped --optimize-seconds cap makes the plan depend on the machine's speed.
   summary["plan_capped"] = plan_info.budget_hit;
   summary["seconds_write"] = seconds_since(t1);
+  return plan;
 }
 
 std::string layers_phrase(size_t n) { return std::to_string(n) + (n == 1 ? " layer" : " layers"); }

@@ -131,3 +131,33 @@ TEST_CASE("every example palette draws with sketch --pens and pointillism --pens
   }
   CHECK(palettes == 4);
 }
+
+TEST_CASE("export --preview is the pen-true render of the plan, not the drawing's shapes", "[cli][export][preview]") {
+  test::TempDir t;
+  // A filled red circle: the drawing is a red disc, but with --fill none the pen only
+  // draws its outline, and the preview must show what the pen draws.
+  std::ofstream(t.file("c.svg")) << R"(<svg xmlns="http://www.w3.org/2000/svg" width="100mm" height="100mm" viewBox="0 0 100 100">)"
+                                 << R"(<circle cx="50" cy="50" r="20" fill="#ff0000" stroke="#ff0000"/></svg>)";
+  auto centre_and_rim = [&](const std::string& fill) {
+    const auto r = test::run_cli("export " + t.file("c.svg") + " -o " + t.file("c-" + fill + ".gcode") + " --preview " +
+                                 t.file("c-" + fill + ".png") + " --fill " + fill);
+    REQUIRE(r.exit_code == 0);
+    const stipplot::Image im = stipplot::load_image(t.file("c-" + fill + ".png"));
+    // The drawing sits at the sheet's top-left corner (no --fit): 150 dpi, mm -> px.
+    const double px = 150 / 25.4;
+    auto green = [&](double x_mm, double y_mm) {  // the darkest in a 5 x 5 px window (the pen is 1.8 px)
+      int g = 255;
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx)
+          g = std::min(g, static_cast<int>(im.channel(static_cast<int>(x_mm * px) + dx, static_cast<int>(y_mm * px) + dy, 1)));
+      return g;
+    };
+    return std::pair<int, int>{green(50, 50), green(70, 50)};
+  };
+  const auto [outline_centre, outline_rim] = centre_and_rim("none");
+  CHECK(outline_centre > 240);  // paper: nothing drawn inside the outline
+  CHECK(outline_rim < 120);     // red ink on the rim
+  const auto [filled_centre, filled_rim] = centre_and_rim("spiral");
+  CHECK(filled_centre < 120);   // the spiral fills it
+  CHECK(filled_rim < 120);
+}
