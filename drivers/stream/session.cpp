@@ -11,6 +11,7 @@ StreamSession::StreamSession(const Job& job, size_t start, const std::vector<std
   res_.last_acked = journal ? journal->last_acked() : static_cast<long>(start) - 1;
   progress_.lines_total = job.lines.size();
   progress_.lines_acked = start;
+  for (size_t i = start; i < job.lines.size(); ++i) est_session_ += job.lines[i].est_s;
 }
 
 const std::string& StreamSession::text(size_t item) const {
@@ -29,20 +30,31 @@ void StreamSession::acknowledge(long line) {
   if (journal_) journal_->ack(static_cast<size_t>(line));
 }
 
-void StreamSession::report(size_t items_sent, const std::string& state, double x, double y) {
+void StreamSession::report(size_t items_sent, const std::string& state, double x, double y, long executed) {
   if (!progress_fn_) return;
   StreamProgress& pg = progress_;
   pg.elapsed_s = elapsed_s();
   pg.lines_sent = start_ + (items_sent > preamble_.size() ? items_sent - preamble_.size() : 0);
-  // ETA: the job's time model, corrected by how fast the device has really gone (the
-  // operator's pauses are not its time).
-  const double device_s = pg.elapsed_s - res_.paused_s;
-  const double ratio = est_done_ > 0.5 && device_s > 1 ? device_s / est_done_ : 1.0;
-  pg.eta_s = std::max(0.0, job_.est_total_s - est_done_) * ratio;
+  if (first_send_s_ < 0 && pg.lines_sent > start_) first_send_s_ = pg.elapsed_s - res_.paused_s;
+  pg.eta_s = eta_s(executed == kAckedAreExecuted ? res_.last_acked : executed);
   pg.state = state;
   pg.x = x;
   pg.y = y;
   progress_fn_(pg);
+}
+
+// The job's time model for what is left, at the rate the device really goes (device
+// seconds per model second since the first line went out, over the model time of what
+// it has executed; the operator's pauses are not its time). O(1).
+double StreamSession::eta_s(long executed) {
+  const double device_s = elapsed_s() - res_.paused_s;
+  const double base = start_ > 0 ? job_.lines[start_ - 1].done_s : 0;
+  double done = 0;
+  if (executed >= static_cast<long>(start_) && executed < static_cast<long>(job_.lines.size()))
+    done = std::clamp(job_.lines[static_cast<size_t>(executed)].done_s - base, 0.0, est_session_);
+  // Half a second of work is enough to measure against; before that, the model as it is.
+  if (first_send_s_ >= 0 && done > 0.5) rate_ = (device_s - first_send_s_) / done;
+  return std::max(0.0, est_session_ - done) * rate_;
 }
 
 void StreamSession::rollback_to(long line) {

@@ -25,8 +25,12 @@ class StreamSession {
 
   // The device has done job line `line`.
   void acknowledge(long line);
-  // Calls the progress callback: `items_sent` items are out, the device last said this.
-  void report(size_t items_sent, const std::string& state = {}, double x = 0, double y = 0);
+  // Calls the progress callback: `items_sent` items are out, the device last said this,
+  // and has executed the job's lines up to `executed` (by default: all acknowledged ones,
+  // as for a plotter whose acknowledgement is its buffer emptying).
+  static constexpr long kAckedAreExecuted = -2;
+  void report(size_t items_sent, const std::string& state = {}, double x = 0, double y = 0,
+              long executed = kAckedAreExecuted);
   // Back to `line` as the last one done (the device discarded lines it had acknowledged).
   void rollback_to(long line);
   // Makes the journal durable before an error leaves the session.
@@ -40,6 +44,9 @@ class StreamSession {
   void pause_ends();
 
   double elapsed_s() const;
+  // Seconds left after the lines up to `executed`, by the time model at the device's
+  // measured rate.
+  double eta_s(long executed);
   StreamResult& result() { return res_; }
   const StreamResult& result() const { return res_; }
   // The result as it stands, timed.
@@ -55,6 +62,9 @@ class StreamSession {
   StreamResult res_;
   StreamProgress progress_;
   double est_done_ = 0;  // the time model's seconds for the lines done
+  double est_session_ = 0;  // ... for the lines this session sends (from start_)
+  double first_send_s_ = -1;  // device seconds when the first job line went out
+  double rate_ = 1;           // device seconds per model second, as measured
   std::chrono::steady_clock::time_point pause_t0_{};
 };
 

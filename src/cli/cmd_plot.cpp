@@ -1,5 +1,6 @@
 // stipplot plot: stream a job to a plotter (serial, USB, or the in-process simulator),
 // with progress, pause/abort on Ctrl-C, check mode, and resume from the journal.
+#include <termios.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -91,6 +92,24 @@ std::string hex(uint64_t v) {
 }
 
 bool stdin_tty() { return ::isatty(STDIN_FILENO) == 1; }
+
+// One key from the terminal, without waiting for Enter (canonical mode and echo off for
+// the read, restored after); EOF or an error reads as 0.
+char read_key() {
+  termios saved{};
+  const bool raw = ::tcgetattr(STDIN_FILENO, &saved) == 0;
+  if (raw) {
+    termios t = saved;
+    t.c_lflag &= ~static_cast<tcflag_t>(ICANON | ECHO);
+    t.c_cc[VMIN] = 1;
+    t.c_cc[VTIME] = 0;
+    ::tcsetattr(STDIN_FILENO, TCSANOW, &t);
+  }
+  char c = 0;
+  if (::read(STDIN_FILENO, &c, 1) != 1) c = 0;
+  if (raw) ::tcsetattr(STDIN_FILENO, TCSANOW, &saved);
+  return c;
+}
 
 // The job to plot, read and parsed, the device it goes to, and, on --resume, where the
 // journal says it stopped.
@@ -272,15 +291,19 @@ class PlotProgress {
       (ask_resume() ? controls.resume : controls.abort) = true;
     }
   }
-  void finish() { bar_.finish(); }
+  void finish(bool completed) { bar_.finish(completed); }
 
  private:
   static bool ask_resume() {
     if (!stdin_tty()) return false;
     std::fprintf(stderr, "\nPaused, pen lifted. [r]esume or [a]bort? ");
-    std::string answer;
-    std::getline(std::cin, answer);
-    return !answer.empty() && (answer[0] == 'r' || answer[0] == 'R');
+    for (;;) {
+      const char k = read_key();
+      if (k == 'r' || k == 'R' || k == 'a' || k == 'A' || k == 0) {
+        std::fprintf(stderr, "%s\n", k == 'r' || k == 'R' ? "resume" : "abort");
+        return k == 'r' || k == 'R';
+      }
+    }
   }
   const PlotArgs& A_;
   Progress bar_;
@@ -441,14 +464,14 @@ void plot(PlotArgs& A) {
   try {
     res = pj.grbl() ? run_grbl(A, pj, *link.port, *journal, progress, s) : run_hpgl(A, pj, *link.port, *journal, progress);
   } catch (const UserError& e) {
-    progress.finish();
+    progress.finish(false);
     std::string hint = journal->last_acked() >= 0
                            ? " — the journal has line " + std::to_string(journal->last_acked() + 1) +
                                  "; continue with: stipplot plot --resume " + pj.prepared.path + (A.sim ? " --sim" : "")
                            : "";
     throw UserError(std::string(e.what()) + hint);
   }
-  progress.finish();
+  progress.finish(res.completed);
   journal.reset();
   s["completed"] = res.completed;
   s["lines_acked"] = res.lines_acked;
@@ -457,6 +480,7 @@ void plot(PlotArgs& A) {
   s["pauses"] = res.pauses;
   s["paused_s"] = res.paused_s;
   if (link.sim) render_sim_record(A, pj, *link.sim, s);
+  s["streamed_s"] = res.seconds;  // from connecting to the device's last move, as progress's elapsed_s
   s["seconds"] = seconds_since(t0);
   print_result(A, pj, res, link.sim != nullptr, s);
   if (!res.completed)

@@ -2,8 +2,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 namespace stipplot {
 
@@ -25,7 +27,7 @@ Progress::Progress(std::string label, uint64_t total, bool enabled)
       start_(std::chrono::steady_clock::now()), last_draw_(start_) {}
 
 Progress::~Progress() {
-  if (!finished_) finish();
+  if (!finished_) finish(false);  // left by an exception: where it stopped
 }
 
 void Progress::update(uint64_t done) {
@@ -37,11 +39,11 @@ void Progress::update(uint64_t done) {
   draw(false);
 }
 
-void Progress::finish() {
+void Progress::finish(bool completed) {
   if (finished_) return;
   finished_ = true;
   if (!enabled_) return;
-  done_ = total_;
+  if (completed) done_ = total_;
   draw(true);
   std::fputc('\n', stderr);
 }
@@ -55,9 +57,13 @@ void Progress::draw(bool /*final*/) {
   int filled = static_cast<int>(frac * width);
   std::string bar(static_cast<size_t>(filled), '#');
   bar.resize(width, '-');
-  std::fprintf(stderr, "\r%s [%s] %5.1f%% %s elapsed, ETA %s %s", label_.c_str(), bar.c_str(),
-               100 * frac, format_duration(elapsed).c_str(), format_duration(eta).c_str(),
-               suffix_.c_str());
+  char line[512];
+  std::snprintf(line, sizeof line, "%s [%s] %5.1f%% %s elapsed, ETA %s %s", label_.c_str(), bar.c_str(), 100 * frac,
+                format_duration(elapsed).c_str(), format_duration(eta).c_str(), suffix_.c_str());
+  const size_t len = std::strlen(line);
+  // Spaces over what a longer earlier line left ("Idle" after "Hold:0" must not read "Idleld:0").
+  std::fprintf(stderr, "\r%s%*s", line, static_cast<int>(last_len_ > len ? last_len_ - len : 0), "");
+  last_len_ = std::max(last_len_, len);
   std::fflush(stderr);
 }
 

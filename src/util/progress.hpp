@@ -16,7 +16,9 @@ class Progress {
   // Optional externally supplied ETA in seconds (e.g. from a time model); < 0 = derive.
   void set_eta_hint(double seconds) { eta_hint_ = seconds; }
   void set_suffix(std::string s) { suffix_ = std::move(s); }
-  void finish();
+  // Ends the bar: at 100 % when the work completed, where it stopped when not (an abort
+  // or a fault must not read as done).
+  void finish(bool completed = true);
   static bool stderr_is_tty();
 
  private:
@@ -24,6 +26,7 @@ class Progress {
   std::string label_;
   uint64_t total_, done_ = 0;
   bool enabled_, finished_ = false;
+  size_t last_len_ = 0;  // the longest line drawn: a shorter one is padded over it
   double eta_hint_ = -1;
   std::string suffix_;
   std::chrono::steady_clock::time_point start_, last_draw_;

@@ -84,3 +84,45 @@ TEST_CASE("the simulator's plotted time is within 5% of the planner's estimate",
     CHECK(std::abs(simulated / estimate - 1) < 0.05);
   }
 }
+
+TEST_CASE("the plot's ETA at 25, 50 and 75 % is within 5 % of the time really left", "[cli][plot][e2e][timing]") {
+  struct Case {
+    const char* profile;
+    const char* ext;
+    const char* make;
+    const char* speedup;
+  };
+  // About 20-30 s of simulated plotting each, at a speed-up low enough that even a busy host
+  // keeps the simulated planner fed: foreign.svg's strokes on grbl (62 s of plan), a
+  // stipple's dots on the HPGL plotter (2 min; an HPGL instruction is a whole stroke, the
+  // finest a plotter's buffer says it has done, so strokes would blur the measure).
+  for (const Case& c : {Case{"grbl-servo", "gcode", "export examples/foreign.svg", "2"},
+                        Case{"hp7475a-a4", "hpgl", "stipple examples/coffee.png --time 2min", "6"}}) {
+    test::TempDir t;
+    const std::string job = t.file(std::string("job.") + c.ext);
+    std::string make = c.make;
+    make.replace(make.find("examples/"), 9, std::string(STIPPLOT_SOURCE_DIR) + "/examples/");
+    auto e = test::run_cli(make + " --profile " + c.profile + " -o " + job + " -q");
+    REQUIRE(e.exit_code == 0);
+    auto r = test::run_cli("plot " + job + " --profile " + c.profile + " --sim --sim-speedup " + c.speedup + " --json");
+    INFO(c.profile << ": " << r.err.substr(0, 2000));
+    REQUIRE(r.exit_code == 0);
+    const double end_s = last_json_line(r.out)["streamed_s"].get<double>();
+    // The progress lines (JSON on stderr, one a second): the first at or past each mark.
+    std::istringstream lines(r.err);
+    std::string l;
+    std::vector<double> marks = {0.25, 0.5, 0.75};
+    size_t next = 0;
+    while (std::getline(lines, l) && next < marks.size()) {
+      if (l.rfind("{\"", 0) != 0) continue;
+      const auto p = nlohmann::json::parse(l);
+      if (!p.contains("eta_s") || p["progress"].get<double>() < marks[next]) continue;
+      const double left = end_s - p["elapsed_s"].get<double>(), eta = p["eta_s"].get<double>();
+      INFO(c.profile << " at " << p["progress"].get<double>() * 100 << " %: ETA " << eta << " s, really " << left
+                     << " s left (the stream took " << end_s << " s)");
+      CHECK(std::abs(eta - left) <= 0.05 * left);
+      ++next;
+    }
+    CHECK(next == marks.size());
+  }
+}

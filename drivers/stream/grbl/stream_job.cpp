@@ -110,7 +110,7 @@ class Streamer::JobRun {
                              ") with " + std::to_string(window_.size()) + " line(s) unanswered: the plot stopped");
   }
 
-  void report() { session_.report(next_, s_.last_status_.state, s_.last_status_.x, s_.last_status_.y); }
+  void report() { session_.report(next_, s_.last_status_.state, s_.last_status_.x, s_.last_status_.y, executed_estimate()); }
 
   // Everything sent and answered, and grbl has been seen idle since (or is checking).
   bool finished(clock::time_point now) {
