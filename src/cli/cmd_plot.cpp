@@ -28,6 +28,7 @@
 #include "drivers/job/hpgl_reader.hpp"
 #include "drivers/job/segments.hpp"
 #include "drivers/job/timed_job.hpp"
+#include "drivers/stream/grbl/machine_settings.hpp"
 #include "drivers/stream/grbl/streamer.hpp"
 #include "drivers/stream/hpgl/streamer.hpp"
 #include "drivers/stream/journal.hpp"
@@ -125,6 +126,14 @@ struct PlotJob {
   size_t start() const { return resuming ? static_cast<size_t>(resume_state.last_acked + 1) : 0; }
 };
 
+// What the G-code timer needs of the wire: grbl waits for characters on a slow one.
+io::GcodeLink gcode_link_of(const DeviceProfile& dev) {
+  io::GcodeLink link;
+  link.baud = dev.serial.port.baud;
+  link.rx_buffer = dev.serial.rx_buffer_bytes;
+  return link;
+}
+
 // The command line's serial and protocol settings over the profile's.
 void apply_overrides(const PlotArgs& A, DeviceProfile& dev, bool grbl) {
   if (A.baud > 0) dev.serial.port.baud = A.baud;
@@ -166,10 +175,7 @@ PlotJob load_job(PlotArgs& A) {
   apply_overrides(A, pj.device, pj.grbl());
   // The timed plan: the ETA counts down the machine's own time (pauses take none).
   if (pj.grbl()) {
-    io::GcodeLink link;
-    link.baud = pj.device.serial.port.baud;
-    link.rx_buffer = pj.device.serial.rx_buffer_bytes;
-    io::apply_timing(pj.job, io::time_gcode_job(pj.job, grbl_settings_for(pj.device), link));
+    io::apply_timing(pj.job, io::time_gcode_job(pj.job, grbl_settings_for(pj.device), gcode_link_of(pj.device)));
   } else {
     io::apply_timing(pj.job, io::time_hpgl_job(pj.job, hpgl_motion_for(pj.device)));
   }
@@ -362,7 +368,23 @@ io::PauseAnswer answer_pause(const PlotArgs& A, const io::PauseRequest& p) {
 
 // grbl: connect, compare its settings with the job, check mode if asked, resume where
 // the device's pen is, stream.
-io::StreamResult run_grbl(const PlotArgs& A, const PlotJob& pj, io::Transport& port, io::Journal& journal,
+// grbl's motion settings differ from the profile's: the plot is the same, its time is
+// not; the job is timed again from grbl's own numbers (the ETA counts those down).
+void time_from_machine(const PlotArgs& A, PlotJob& pj, const std::map<int, double>& reported, nlohmann::json& summary) {
+  const auto cmp = io::grbl::compare_motion_settings(reported, grbl_settings_for(pj.device));
+  if (!cmp.changes_time()) return;
+  const double profile_s = pj.job.est_total_s;
+  io::apply_timing(pj.job, io::time_gcode_job(pj.job, cmp.machine, gcode_link_of(pj.device)));
+  std::string what;
+  for (const auto& c : cmp.time_changes) what += (what.empty() ? "" : ", ") + c;
+  A.log("warning: grbl's settings differ from profile " + pj.device.name + "'s: " + what + "; timed with grbl's: about " +
+        format_duration(pj.job.est_total_s) + " (the profile's numbers: " + format_duration(profile_s) + ")");
+  summary["settings_differ"] = cmp.time_changes;
+  summary["estimate_s_profile"] = profile_s;
+  summary["estimate_s"] = pj.job.est_total_s;
+}
+
+io::StreamResult run_grbl(const PlotArgs& A, PlotJob& pj, io::Transport& port, io::Journal& journal,
                           PlotProgress& progress, nlohmann::json& summary) {
   const io::Job& job = pj.job;
   io::grbl::Options o = io::grbl::options_for(pj.device);
@@ -373,7 +395,9 @@ io::StreamResult run_grbl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
   o.on_pause = [&A](const io::PauseRequest& p) { return answer_pause(A, p); };
   io::grbl::Streamer st(port, o);
   st.connect();
-  for (const auto& w : st.check_settings(st.read_settings(), io::grbl::expectations_for(job))) A.log("warning: " + w);
+  const std::map<int, double> reported = st.read_settings();
+  for (const auto& w : st.check_settings(reported, io::grbl::expectations_for(job))) A.log("warning: " + w);
+  time_from_machine(A, pj, reported, summary);
   if (A.check) {
     auto errs = st.check_job(job);
     summary["check_errors"] = errs.size();
