@@ -18,6 +18,7 @@ class FileSink final : public Transport {
   bool is_connected() const override { return f_ != nullptr; }
   void close() override;
   std::string describe() const override { return "file " + path_; }
+  bool answers() const override { return false; }
 
  private:
   std::string path_;

@@ -75,6 +75,8 @@ std::unique_ptr<Transport> open_port(const std::string& port, const SerialSettin
   if (port.empty()) throw UserError("no port given");
   if (port.rfind("usb:", 0) == 0) return std::make_unique<UsbBulk>(parse_usb_selector(port));
   if (port.rfind("file:", 0) == 0) return std::make_unique<FileSink>(port.substr(5));
+  // The kernel's usblp driver: many HPGL plotters and cutters present themselves so.
+  if (port.rfind("/dev/usb/lp", 0) == 0) return std::make_unique<FileSink>(port);
   if (is_pty_path(port)) return std::make_unique<PosixSerial>(port, s);
   try {
     return std::make_unique<SpSerial>(port, s);

@@ -55,6 +55,9 @@ class Transport {
   virtual void close() = 0;
   // "serial /dev/ttyUSB0 @115200", "usb 1a86:7523", ... for messages.
   virtual std::string describe() const = 0;
+  // False for a write-only sink (a file, a USB printer node): nothing ever answers, so a
+  // job goes to it raw, with no queries, handshakes or journal.
+  virtual bool answers() const { return true; }
 };
 
 // Reads '\n'-terminated lines (a '\r' before it is dropped) from a transport.
@@ -79,7 +82,7 @@ class LineReader {
 
 // Opens a transport from a port name: "/dev/ttyUSB0", "COM3" (serial: libserialport
 // for hardware ports, termios for ptys and as fallback), "usb:VID:PID[:N]" (libusb
-// bulk), "file:PATH" (write-only sink).
+// bulk), "file:PATH" and USB printer-class nodes "/dev/usb/lpN" (write-only sinks).
 std::unique_ptr<Transport> open_port(const std::string& port, const SerialSettings& s);
 
 }  // namespace stipplot::io

@@ -368,6 +368,28 @@ io::PauseAnswer answer_pause(const PlotArgs& A, const io::PauseRequest& p) {
 
 // grbl: connect, compare its settings with the job, check mode if asked, resume where
 // the device's pen is, stream.
+// A write-only sink (file:PATH, a USB printer node): the job goes as it is, line by
+// line, with nothing asked of the device (no status query, no reset, no handshake), and
+// nothing to journal, since nothing answers.
+void write_to_sink(const PlotArgs& A, const PlotJob& pj, io::Transport& sink, std::chrono::steady_clock::time_point t0) {
+  if (pj.resuming) throw UserError(sink.describe() + " never answers: there is nothing to resume; write the whole job again");
+  const std::string eol = pj.grbl() || pj.device.serial.newline ? "\n" : "";
+  size_t lines = 0, bytes = 0;
+  for (const auto& l : pj.job.lines) {
+    if (l.host_only) continue;  // HPGL pause comments: for the host, never the device
+    sink.write(l.text + eol);
+    ++lines, bytes += l.text.size() + eol.size();
+  }
+  sink.flush();
+  sink.close();
+  nlohmann::json s = {{"command", "plot"}, {"job", pj.prepared.path}, {"port", sink.describe()}, {"lines", lines},
+                      {"bytes", bytes}, {"completed", true}, {"answers", false}, {"seconds", seconds_since(t0)}};
+  if (A.json) std::printf("%s\n", s.dump().c_str());
+  else if (!A.quiet)
+    std::printf("wrote %zu lines (%zu bytes) of %s to %s as they are: a sink never answers, so nothing was checked, "
+                "timed or journalled\n", lines, bytes, pj.prepared.path.c_str(), sink.describe().c_str());
+}
+
 // grbl's motion settings differ from the profile's: the plot is the same, its time is
 // not; the job is timed again from grbl's own numbers (the ETA counts those down).
 void time_from_machine(const PlotArgs& A, PlotJob& pj, const std::map<int, double>& reported, nlohmann::json& summary) {
@@ -474,6 +496,7 @@ void plot(PlotArgs& A) {
   PlotJob pj = load_job(A);
   announce_pens(A, pj);
   PlotLink link = open_link(A, pj);
+  if (!link.port->answers()) return write_to_sink(A, pj, *link.port, t0);
   A.log("plotting " + pj.prepared.path + " (" + std::to_string(pj.job.lines.size()) + " lines) on " +
         link.port->describe());
   PlotProgress progress(A, pj.job.lines.size());

@@ -4,7 +4,9 @@
 #include <sys/wait.h>
 
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <cstdio>
+#include <iterator>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -182,5 +184,29 @@ TEST_CASE("plot refuses a job file that leaves the profile's travel, naming the 
         std::string::npos);
   CHECK(o.text.find("nothing was sent") != std::string::npos);
   CHECK_FALSE(fs::exists(job + ".journal"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("plot --port file:PATH writes the job raw: no queries, no reset, done at once", "[cli][drivers]") {
+  auto dir = scratch();
+  const std::string job = write_job(dir, "s.gcode", testjob::gcode(testjob::random_strokes(44, 12, 5)));
+  const std::string out = (dir / "sink.gcode").string();
+  const auto t0 = std::chrono::steady_clock::now();
+  Out o = run("plot " + job + " --port file:" + out + " --json -q");
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  INFO(o.text);
+  REQUIRE(o.rc == 0);
+  CHECK(secs < 5);  // nothing waits for an answer that never comes
+  std::ifstream in(out, std::ios::binary);
+  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(written.find('?') == std::string::npos);     // no status query
+  CHECK(written.find('\x18') == std::string::npos);  // no soft reset
+  CHECK(written.find("G1") != std::string::npos);
+  const auto j = nlohmann::json::parse(o.text.substr(o.text.rfind("{\"")));
+  CHECK(j["answers"] == false);
+  CHECK(j["completed"] == true);
+  CHECK(!fs::exists(job + ".journal"));
+  Out again = run("plot --resume " + job + " --port file:" + out);
+  CHECK(again.rc != 0);
   fs::remove_all(dir);
 }
