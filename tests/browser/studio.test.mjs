@@ -120,7 +120,9 @@ try {
   if (!args.some((a) => a.startsWith('--profile'))) args.push('--profile=' + st.profile);
   execFileSync(stipplot, args, { cwd: cliDir });
   check(readFileSync(join(cliDir, 'job.gcode')).equals(readFileSync(join(work, st.job))), 'the studio\'s job is the CLI\'s, byte for byte');
-  execFileSync(stipplot, ['plot', 'job.gcode', '--sim', '--sim-speedup', '200', '--profile=' + st.profile, '-q', '--sim-out', 'cli.sim'], { cwd: cliDir });
+  const cliPlot = JSON.parse(execFileSync(stipplot, ['plot', 'job.gcode', '--sim', '--sim-speedup', '50', '--profile=' + st.profile,
+    '--json', '--sim-out', 'cli.sim'], { cwd: cliDir, stdio: ['ignore', 'pipe', 'ignore'] }).toString().trim().split('\n').pop());
+  check(cliPlot.sim_exact === true, `the CLI's plot of the same job drew exactly the job (${cliPlot.sim_segments} marks)`);
   // A pause lifts the pen and lowers it again where it was: the paper is the same, the
   // record may hold that mark twice. So the marks are compared as a set, and counted.
   const marks = (f) => readFileSync(f, 'utf8').split('\n').filter((l) => /<(circle|line|path|polyline)\b/.test(l)).map((l) => l.trim());

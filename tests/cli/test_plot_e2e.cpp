@@ -64,7 +64,7 @@ TEST_CASE("a stipple job plots on the simulated HPGL plotter", "[cli][plot][e2e]
   CHECK(j["sim_exact"] == true);
 }
 
-TEST_CASE("the simulator's plotted time is within 5% of the planner's estimate", "[cli][plot][e2e][timing]") {
+TEST_CASE("the simulator's plotted time is within 5% of the planner's estimate", "[cli][plot][e2e][timing][realtime]") {
   struct Case {
     const char* profile;
     const char* ext;
@@ -85,7 +85,7 @@ TEST_CASE("the simulator's plotted time is within 5% of the planner's estimate",
   }
 }
 
-TEST_CASE("the plot's ETA at 25, 50 and 75 % is within 5 % of the time really left", "[cli][plot][e2e][timing]") {
+TEST_CASE("the plot's ETA at 25, 50 and 75 % is within 5 % of the time really left", "[cli][plot][e2e][timing][realtime]") {
   struct Case {
     const char* profile;
     const char* ext;

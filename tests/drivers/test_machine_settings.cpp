@@ -33,7 +33,7 @@ TEST_CASE("grbl settings that differ from the profile's are named and taken into
   CHECK(c.machine.idle_lock_s == 0);
 }
 
-TEST_CASE("plot times a job from grbl's own settings when they differ from the profile's", "[drivers][grbl][cli][timing]") {
+TEST_CASE("plot times a job from grbl's own settings when they differ from the profile's", "[drivers][grbl][cli][timing][realtime]") {
   test::TempDir t;
   const std::string job = t.file("f.gcode");
   REQUIRE(test::run_cli("export " + std::string(STIPPLOT_SOURCE_DIR) + "/examples/foreign.svg --profile grbl-servo -o " + job +

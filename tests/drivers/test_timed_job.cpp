@@ -155,7 +155,7 @@ TEST_CASE("the job timer: character counting over a slow wire starves the planne
   CHECK(t_slow.stops > 30);  // and the machine stops at nearly every line
 }
 
-TEST_CASE("the job timer agrees with the simulated grbl, which runs the same motion over a pty", "[motion][grbl][timing][e2e]") {
+TEST_CASE("the job timer agrees with the simulated grbl, which runs the same motion over a pty", "[motion][grbl][timing][e2e][realtime]") {
   DeviceProfile prof = find_profile("grbl-servo");
   io::Job job = io::parse_gcode_job(testjob::gcode(testjob::random_strokes(31, 12, 6)), gcode_pen_rule(prof));
   sim::GrblSimConfig c = sim::grbl_sim_config(prof);
@@ -177,7 +177,7 @@ TEST_CASE("the job timer agrees with the simulated grbl, which runs the same mot
   CHECK(sim_s == Approx(t.total_s - t.motion_start_s).epsilon(0.01));
 }
 
-TEST_CASE("the HPGL timer agrees with the simulated plotter", "[motion][hpgl][timing][e2e]") {
+TEST_CASE("the HPGL timer agrees with the simulated plotter", "[motion][hpgl][timing][e2e][realtime]") {
   DeviceProfile prof = find_profile("hp7475a-a4");
   io::Job job = io::parse_hpgl_job(testjob::hpgl(testjob::random_strokes(32, 15, 6)));
   sim::HpglSimConfig c = sim::hpgl_sim_config(prof);
