@@ -1,11 +1,14 @@
 // grbl's own settings against the profile's: what only changes the time is a warning,
 // and the plot is timed again from the machine's numbers, as the machine really runs.
 #include <catch2/catch.hpp>
+#include <chrono>
 #include <nlohmann/json.hpp>
 
 #include "drivers/device/motion_setup.hpp"
 #include "drivers/device/profile.hpp"
 #include "drivers/stream/grbl/machine_settings.hpp"
+#include "drivers/stream/hpgl/streamer.hpp"
+#include "drivers/transport/posix_serial.hpp"
 #include "sim/grbl_sim.hpp"
 #include "test_util.hpp"
 
@@ -55,4 +58,24 @@ TEST_CASE("plot times a job from grbl's own settings when they differ from the p
   INFO("the machine ran " << ran << " s; timed from its settings " << machine << " s, from the profile's " << profile << " s");
   CHECK(std::abs(machine / ran - 1) < 0.05);
   CHECK(std::abs(profile / ran - 1) > 0.10);  // the profile's numbers would have been wrong
+}
+
+TEST_CASE("an HPGL job sent to a grbl board is named as the wrong protocol within 10 s", "[drivers][hpgl][grbl]") {
+  sim::GrblSimConfig cfg = sim::grbl_sim_config(find_profile("grbl-servo"));
+  cfg.reset_on_open = true;  // an Arduino: opening the port reboots it, and it greets
+  cfg.speedup = 10;
+  sim::GrblSim sim(cfg);
+  io::PosixSerial port(sim.open_pty(), {});
+  io::hpgl::Streamer st(port, io::hpgl::options_for(find_profile("hp7475a-a4")));
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string message;
+  try {
+    st.connect();
+  } catch (const io::TransportError& e) {
+    message = e.what();
+  }
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  INFO(message);
+  CHECK(message.find("sounds like grbl") != std::string::npos);
+  CHECK(secs < 10);
 }

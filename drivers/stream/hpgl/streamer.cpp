@@ -60,6 +60,7 @@ void Streamer::pump(Millis timeout) {
       xoff_ = false;
     } else {
       incoming_.push_back(buf[i]);
+      if (heard_.size() < 256) heard_.push_back(buf[i]);
     }
   }
 }
@@ -99,9 +100,14 @@ int Streamer::query(char c) {
     std::this_thread::sleep_for(Millis(20));
     pump(Millis(20));
   }
+  // A G-code controller on the port talks, but not HPGL: say so, not only "no answer".
+  std::string hint;
+  if (heard_.find("Grbl") != std::string::npos || heard_.find("ok") != std::string::npos ||
+      heard_.find("error:") != std::string::npos)
+    hint = "; what it did say sounds like grbl (G-code), not an HPGL plotter: choose a grbl profile for this port";
   throw TransportError(TransportError::Kind::Timeout, std::string("the plotter on ") + t_.describe() +
                                                           " does not answer ESC." + c + " (tried " +
-                                                          std::to_string(o_.retries + 1) + " times)");
+                                                          std::to_string(o_.retries + 1) + " times)" + hint);
 }
 
 void Streamer::connect() {

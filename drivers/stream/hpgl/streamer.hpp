@@ -67,6 +67,7 @@ class Streamer {
   int buffer_ = 0;
   bool xoff_ = false;
   std::string incoming_;
+  std::string heard_;  // the first bytes the device sent: what it is, when it is not HPGL
   std::chrono::steady_clock::time_point xoff_since_{};
 };
 
