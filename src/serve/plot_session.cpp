@@ -183,6 +183,16 @@ json PlotSession::state() const {
   return state_;
 }
 
+std::shared_ptr<PlotSession> PlotSession::left_unfinished(PlotRequest r, size_t acked, size_t lines) {
+  auto s = std::make_shared<PlotSession>(std::move(r));
+  s->state_ = {{"port", s->req_.port}, {"job", s->req_.job}, {"profile", s->req_.profile}, {"status", "stopped"},
+               {"lines", lines}, {"lines_acked", acked}, {"percent", lines ? 100.0 * double(acked) / double(lines) : 0.0},
+               {"eta_s", -1}, {"resumed", false}, {"can_resume", true},
+               {"message", "left unfinished by an earlier server: " + std::to_string(acked) + " of " + std::to_string(lines) +
+                               " lines plotted; resume from the journal"}};
+  return s;
+}
+
 json PlotSession::method_summary() const {
   std::lock_guard<std::mutex> lock(m_);
   return req_.method_summary;

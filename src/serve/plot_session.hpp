@@ -32,6 +32,9 @@ struct PlotRequest {
 class PlotSession {
  public:
   explicit PlotSession(PlotRequest r) : req_(std::move(r)) {}
+  // A plot an earlier server left unfinished: stopped, with `acked` of `lines` done,
+  // resumable from its journal.
+  static std::shared_ptr<PlotSession> left_unfinished(PlotRequest r, size_t acked, size_t lines);
   ~PlotSession() { abort_and_join(); }
   void start();
   // The state every tab sees: status (preparing|plotting|paused|pen_change|done|stopped|

@@ -4,10 +4,13 @@
 
 #include <atomic>
 #include <csignal>
+#include <cstdio>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <sstream>
 
+#include "drivers/stream/journal.hpp"
 #include "serve/child.hpp"
 #include "serve/photo.hpp"
 #include "serve/plot_session.hpp"
@@ -129,6 +132,7 @@ struct Studio::Impl {
   }
 
   json preview(const Settings& s, bool draft);
+  void pick_up_journals();
   void routes();
   void guard_routes();
   void file_routes();
@@ -219,9 +223,43 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
   return out;
 }
 
+// Plots an earlier server left unfinished (their journals in the working folder): each
+// port's newest is offered for resuming, and new jobs are numbered after all of them, so
+// none is overwritten. O(files in the folder).
+void Studio::Impl::pick_up_journals() {
+  std::map<std::string, std::pair<int, std::shared_ptr<PlotSession>>> newest;  // port -> (N, session)
+  for (const auto& e : fs::directory_iterator(cfg.workdir)) {
+    const std::string name = e.path().filename().string();
+    int n = 0;
+    char ext[8] = {0};
+    if (std::sscanf(name.c_str(), "plot-%d.%5[a-z]", &n, ext) != 2) continue;
+    plot_count = std::max(plot_count, n);
+    const std::string job = "plot-" + std::to_string(n) + "." + ext;
+    if (name != job + ".journal" || !fs::exists(cfg.workdir / job)) continue;
+    try {
+      const io::JournalState st = io::Journal::load(e.path().string());
+      if (st.complete) continue;
+      PlotRequest pr;
+      pr.executable = cfg.executable;
+      pr.workdir = cfg.workdir;
+      pr.port = st.header.port.empty() ? "sim" : st.header.port;
+      pr.job = job;
+      pr.profile = st.header.profile;
+      pr.sim_speedup = cfg.sim_speedup;
+      auto& slot = newest[pr.port];
+      if (n > slot.first)
+        slot = {n, PlotSession::left_unfinished(pr, static_cast<size_t>(st.last_acked + 1), st.header.total_lines)};
+    } catch (const std::exception&) {
+      // A damaged journal: not offered (plot --resume on the command line says why).
+    }
+  }
+  for (auto& [port, entry] : newest) plots[port] = entry.second;
+}
+
 Studio::Studio(StudioConfig cfg) : impl_(std::make_unique<Impl>(std::move(cfg))) {
   std::signal(SIGPIPE, SIG_IGN);  // a child or a browser that went away is an error, not the end
   fs::create_directories(impl_->cfg.workdir / "previews");
+  impl_->pick_up_journals();
   impl_->routes();
 }
 

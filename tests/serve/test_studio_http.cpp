@@ -278,3 +278,42 @@ TEST_CASE("serve http: a plot asks for each pen by name, and an aborted one resu
   CHECK(done_before > 0);
   CHECK(st["result"]["lines_acked"].get<size_t>() < st["lines"].get<size_t>());
 }
+
+TEST_CASE("serve http: a plot an earlier server left unfinished is offered for resuming, and new jobs do not overwrite it", "[serve]") {
+  test::TempDir dir;
+  {
+    RunningStudio s(config(dir));
+    auto cl = s.client();
+    REQUIRE(cl.Post("/api/photo", read_all(std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png"), "image/png")->status == 200);
+    REQUIRE(cl.Post("/api/preview", R"({"method":"stipple","options":{"--method":"cmyk","-b":"40"}})", "application/json")->status == 200);
+    REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 200);
+    json st = wait_for_plot(cl, [](const json& j) { return j["status"] == "pen_change" || j["status"] == "done"; });
+    REQUIRE(st["status"] == "pen_change");
+    REQUIRE(cl.Post("/api/plot/abort", R"({"port":"sim"})", "application/json")->status == 200);
+    st = wait_for_plot(cl, [](const json& j) { return j["status"] == "stopped" || j["status"] == "done"; });
+    REQUIRE(st["status"] == "stopped");
+  }  // the server goes; its journal stays
+  RunningStudio again(config(dir));
+  auto cl = again.client();
+  json st = json::parse(cl.Get("/api/state")->body)["plots"]["sim"];
+  INFO(st.dump());
+  CHECK(st["status"] == "stopped");
+  CHECK(st["can_resume"] == true);
+  CHECK(st["job"] == "plot-1.gcode");
+  CHECK(st["lines_acked"].get<size_t>() > 0);
+  REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim","resume":true})", "application/json")->status == 200);
+  for (int i = 0; i < 6; ++i) {
+    st = wait_for_plot(cl, [](const json& j) { return j["status"] != "plotting"; });
+    if (st["status"] != "pen_change") break;
+    REQUIRE(cl.Post("/api/plot/continue", R"({"port":"sim"})", "application/json")->status == 200);
+  }
+  REQUIRE(st["status"] == "done");
+  CHECK(st["resumed"] == true);
+  CHECK(st["result"]["lines_acked"].get<size_t>() < st["lines"].get<size_t>());
+  // A new plot is numbered after the one left behind.
+  REQUIRE(cl.Post("/api/photo", read_all(std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png"), "image/png")->status == 200);
+  REQUIRE(cl.Post("/api/preview", R"({"method":"stipple","options":{"-b":"60"}})", "application/json")->status == 200);
+  REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 200);
+  CHECK(json::parse(cl.Get("/api/state")->body)["plots"]["sim"]["job"] == "plot-2.gcode");
+  REQUIRE(cl.Post("/api/plot/abort", R"({"port":"sim"})", "application/json")->status == 200);
+}
