@@ -79,8 +79,9 @@ void register_tree(CLI::App& app) {
         args->p.validate();
         args->t.validate();
       },
-      [args](const MethodInput& in) { return fixed_density([args, &in] {
-        const tree::TreeParams& p = args->p;
+      [args](const MethodInput& in) { return spaced_density(in, [args, &in](double spacing) {
+        tree::TreeParams p = args->p;
+        p.a *= spacing, p.b *= spacing;  // the stipple radii: points about 1 / spacing^2 as many
         auto r = std::make_shared<tree::TreeResult>(tree::tree_pixels(in.image, p));
         MethodResult out;
         out.drawing = tree::place_tree(*r, in.placement);

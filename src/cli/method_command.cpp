@@ -133,6 +133,22 @@ Drawing thin_marks(const Drawing& d, double k) {
   return out;
 }
 
+MethodDraft spaced_density(const MethodInput& in, std::function<MethodResult(double spacing)> draw) {
+  auto full = std::make_shared<MethodResult>(draw(1.0));
+  const budget::MarkCosts& c = in.costs;
+  const double full_s = budget::quick_estimate_seconds(full->drawing, c.motion(), c.plan_options());
+  MethodDraft d;
+  d.predict = [full_s](double k) { return k * full_s; };
+  d.draw = [full, draw = std::move(draw)](double k) {
+    if (k >= 1) return *full;
+    MethodResult r = draw(1 / std::sqrt(std::max(k, 1e-4)));
+    r.summary["spacing_scale"] = 1 / std::sqrt(std::max(k, 1e-4));
+    return r;
+  };
+  d.ink_needed = ink_share(full->drawing);
+  return d;
+}
+
 MethodDraft thinned_density(const MethodInput& in, std::function<MethodResult()> draw) {
   auto full = std::make_shared<MethodResult>(draw());
   const budget::MarkCosts& c = in.costs;

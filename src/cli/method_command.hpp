@@ -75,6 +75,12 @@ struct MethodDraft {
 // A method whose drawing does not depend on the budget: one run, whatever --time says.
 MethodDraft fixed_density(std::function<MethodResult()> draw);
 
+// A method whose marks cannot be thinned one by one (a tree: each point holds others up),
+// but whose spacing can grow: at k the method runs with its spacing x 1/sqrt(k), so it
+// makes about k of its marks and takes about k of the time. Costs one run at full density
+// and its quick estimate, then one run at each density the search tries.
+MethodDraft spaced_density(const MethodInput& in, std::function<MethodResult(double spacing)> draw);
+
 // A method whose marks each lay a little of the tone (sketch strokes, pointillism
 // circles): one run at its full density, then at k < 1 each layer keeps the share k of
 // its marks, picked by a golden-ratio sequence over their order so the thinning is even

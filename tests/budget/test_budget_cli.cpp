@@ -140,3 +140,23 @@ TEST_CASE("thinning keeps the share k of every kind of mark spread evenly over t
   CHECK(stipplot::cli::thin_marks(d, 1).primitive_count() == d.primitive_count());
   CHECK(stipplot::cli::thin_marks(d, 0).layers.empty());
 }
+
+TEST_CASE("tree fits the budget and uses it: wider spacing, not a thinned tree, on two profiles", "[budget][cli][slow]") {
+  test::TempDir t;
+  const std::string img = example("coffee.png");
+  for (const char* profile : {"grbl-servo", "hp7475a-a4"}) {
+    for (const char* time : {"10min", "1h"}) {
+      const double budget = std::string(time) == "10min" ? 600 : 3600;
+      const auto j = run_json("tree " + img + " -o " + t.file("t.svg") + " --profile " + profile + " --time " + time);
+      const double planned = j["plan"]["total"]["seconds"].get<double>();
+      INFO(profile << " " << time << ": planned " << planned << " s, knob " << j["budget"]["knob"]);
+      CHECK(planned <= budget);
+      if (!j["budget"]["finest"].get<bool>()) {
+        CHECK(planned >= 0.8 * budget);
+        CHECK(j["spacing_scale"].get<double>() > 1);  // the stipple radii grew
+      }
+      // Still one tree: a spanning tree of n points has n - 1 edges.
+      CHECK(j["trees"][0]["edges"].get<size_t>() + 1 == j["points"].get<size_t>());
+    }
+  }
+}
