@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/method_command.hpp"
 #include "methods/tree/tree.hpp"
+#include "methods/working_grid.hpp"
 
 namespace stipplot::cli {
 
@@ -52,12 +53,12 @@ void register_tree(CLI::App& app) {
   cmd->add_option("-d,--distance", args->distance, "ed|bd|sibd|bd+sibd|ced|cbd|csibd|cbd+csibd")->capture_default_str();
   m->add_png_output("--terrain", "Also write a terrain map PNG (image size)", "terrain", "terrain");
   const char* g = "Tree";
-  cmd->add_option("-a", args->p.a, "Stipple radius offset a (px): r = a + b*d/255")->capture_default_str()->group(g);
-  cmd->add_option("-b", args->p.b, "Stipple radius slope b (px)")->capture_default_str()->group(g);
+  cmd->add_option("-a", args->p.a, "Stipple radius offset a, in grid cells (a cell is one pen width on paper): r = a + b*d/255")->capture_default_str()->group(g);
+  cmd->add_option("-b", args->p.b, "Stipple radius slope b, in grid cells")->capture_default_str()->group(g);
   cmd->add_option("--alpha-bd", args->p.alpha_bd, "BD/CBD: weight of the intensity difference")->capture_default_str()->group(g);
   cmd->add_option("--alpha-sibd", args->p.alpha_sibd, "SIBD/CSIBD: weight of the penalty")->capture_default_str()->group(g);
   cmd->add_option("--h", args->p.h, "SIBD/CSIBD: threshold h on the squared intensity difference")->capture_default_str()->group(g);
-  cmd->add_option("--sigma", args->p.sigma, "Gaussian blur (px) of the input for BD/SIBD intensities; 0 = none")->capture_default_str()->group(g);
+  cmd->add_option("--sigma", args->p.sigma, "Gaussian blur (grid cells) of the image for BD/SIBD intensities; 0 = none")->capture_default_str()->group(g);
   cmd->add_option("--seed", args->p.seed, "Random seed; the same seed gives the same drawing")->capture_default_str()->group(g);
   cmd->add_flag("--reference-prim", args->p.reference_prim, "Use the paper's O(n^2) Prim (slow; for comparison)")->group(g);
   const char* e = "Major edges (cross variants)";
@@ -82,14 +83,18 @@ void register_tree(CLI::App& app) {
       [args](const MethodInput& in) { return spaced_density(in, [args, &in](double spacing) {
         tree::TreeParams p = args->p;
         p.a *= spacing, p.b *= spacing;  // the stipple radii: points about 1 / spacing^2 as many
-        auto r = std::make_shared<tree::TreeResult>(tree::tree_pixels(in.image, p));
+        // On a grid of one pen width a cell: the same page and pen give the same tree
+        // whatever the file's resolution (-a, -b, --sigma are in its cells).
+        const WorkingGrid grid = make_working_grid(in.image, in.placement.transform(in.image.width, in.image.height),
+                                                   in.placement.pen_width_mm);
+        auto r = std::make_shared<tree::TreeResult>(tree::tree_pixels(grid.image, p));
         MethodResult out;
         out.drawing = tree::place_tree(*r, in.placement);
         out.summary = tree_summary(*r, p);
         out.images["--terrain"] = [r, args] { return tree::terrain(*r, args->t); };
         out.counts = std::to_string(r->points.size()) + " points, " + std::to_string(out.drawing.primitive_count()) +
                      " segments in " + layers_phrase(out.drawing.layers.size()) + " (" + p.variant.name + ", " +
-                     pixel_size(in.image) + ")";
+                     pixel_size(in.image) + " on a " + pixel_size(grid.image) + " grid)";
         return out;
       }); });
 }
