@@ -58,7 +58,7 @@ inline Job dots_job(const std::string& profile, const std::string& out,
 }
 
 inline Job tree_job(const std::string& profile, const std::string& out,
-                    const std::string& extra = "--page 40x30mm --margin 2 -a 25 -b 40") {
+                    const std::string& extra = "--page 40x30mm --margin 2 -a 7.5 -b 12") {
   auto r = test::run_cli("tree " + example("horse.png") + " " + extra + " --profile " + profile + " -o " + out + " --json");
   if (r.exit_code != 0) throw std::runtime_error("stipplot tree failed: " + r.err);
   return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};

@@ -36,7 +36,7 @@ void check_estimate(const std::string& profile, const std::string& foreign_extra
   };
   const std::vector<Named> list = {
       {"dots", jobs::dots_job(profile, t.file("dots.gcode"), "--page 40x30mm --margin 2 -a 40px -b 60px")},
-      {"tree", jobs::tree_job(profile, t.file("tree.gcode"), "--page 40x30mm --margin 2 -a 25 -b 40")},
+      {"tree", jobs::tree_job(profile, t.file("tree.gcode"), "--page 40x30mm --margin 2 -a 7.5 -b 12")},
       {"foreign.svg", jobs::export_job(jobs::example("foreign.svg"), profile, t.file("foreign.gcode"), foreign_extra)},
   };
   const stipplot::DeviceProfile prof = stipplot::find_profile(profile);

@@ -60,7 +60,7 @@ TEST_CASE("firmware known: stipplot's time estimate against the firmware's plot 
   for (const std::string profile : {"grbl-servo", "grbl-z"}) {
     std::vector<TimedJob> list = {
         {"dots", jobs::dots_job(profile, t.file("dots-" + profile + ".gcode"), "--page 40x30mm --margin 2 -a 40px -b 60px")},
-        {"tree", jobs::tree_job(profile, t.file("tree-" + profile + ".gcode"), "--page 40x30mm --margin 2 -a 25 -b 40")},
+        {"tree", jobs::tree_job(profile, t.file("tree-" + profile + ".gcode"), "--page 40x30mm --margin 2 -a 7.5 -b 12")},
         {"foreign", jobs::export_job(jobs::example("foreign.svg"), profile, t.file("foreign-" + profile + ".gcode"))},
     };
     for (const TimedJob& j : list) {
@@ -87,7 +87,7 @@ TEST_CASE("firmware known: stipplot's time estimate against the firmware's plot 
 TEST_CASE("firmware known: resume after a dropped link or a power cut loses or doubles marks", "[.firmware-known]") {
   test::TempDir t;
   const std::string profile = "grbl-servo";
-  jobs::Job job = jobs::tree_job(profile, t.file("tree.gcode"), "--page 40x30mm --margin 2 -a 25 -b 40");
+  jobs::Job job = jobs::tree_job(profile, t.file("tree.gcode"), "--page 40x30mm --margin 2 -a 7.5 -b 12");
   const std::string gcode = test::read_file(job.path);
   const size_t n = jobs::job_lines(gcode).size();
   auto job_line = [](const std::string& l) { return !l.empty() && l[0] != '$'; };
