@@ -64,6 +64,10 @@ struct PlotArgs {
   void validate() const {
     if (input.empty() && resume.empty()) throw UserError("give a job to plot, or --resume JOB");
     if (sim && !port.empty()) throw UserError("--sim and --port exclude each other");
+    // A USB bulk endpoint has no line settings: refuse them rather than drop them.
+    if (port.rfind("usb:", 0) == 0 && (baud > 0 || flow_given))
+      throw UserError("--port " + port + " is a USB bulk endpoint (libusb): it has no baud rate or flow control; " +
+                      "--baud and --flow apply to serial ports (a USB-serial adapter shows up as /dev/ttyUSB*)");
     require_positive("--sim-speedup", sim_speedup);
     require_nonnegative("--sim-baud", sim_baud);
     require_nonnegative("--sim-latency-ms", sim_latency_ms);

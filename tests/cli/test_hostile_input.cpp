@@ -111,6 +111,8 @@ TEST_CASE("outputs never overwrite inputs or each other", "[cli][bad-input][outp
       {"stipple DIR/in.png -o DIR/o.svg --preview DIR", "--preview DIR: expected a .png file"},
       {"stipple DIR/in.png -o DIR/o.svg --preview DIR/no/p.png", "directory DIR/no does not exist"},
       {"plot DIR/in.svg --sim --job DIR/o.gcode --sim-out DIR/in", "would overwrite the input"},
+      {"plot DIR/in.svg --port usb:1a86:7523 --baud 9600", "has no baud rate or flow control"},
+      {"plot DIR/in.svg --port usb:1a86:7523 --flow rtscts", "has no baud rate or flow control"},
   });
 }
 
