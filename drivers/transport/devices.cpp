@@ -1,6 +1,8 @@
 #include "drivers/transport/devices.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <set>
 
 namespace stipplot::io {
@@ -21,6 +23,10 @@ DeviceList list_devices() {
   DeviceList d;
   d.serial = list_serial_ports();
   d.usb = list_usb_devices(&d.usb_error);
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator("/dev/usb", ec))
+    if (e.path().filename().string().rfind("lp", 0) == 0) d.printer_nodes.push_back(e.path().string());
+  std::sort(d.printer_nodes.begin(), d.printer_nodes.end());
   return d;
 }
 
@@ -34,6 +40,7 @@ std::vector<std::string> plausible_ports(const DeviceList& d) {
     }
   for (const auto& u : d.usb)
     if (u.has_bulk_out && !adapters.count({u.vid, u.pid})) out.push_back("usb:" + hexid(u.vid, u.pid));
+  for (const auto& n : d.printer_nodes) out.push_back(n);
   return out;
 }
 
@@ -72,6 +79,10 @@ std::string format_devices(const DeviceList& d) {
                     u.manufacturer.c_str(), u.product.c_str(), u.has_bulk_out ? "  [bulk out]" : "");
       s += line;
     }
+  }
+  if (!d.printer_nodes.empty()) {
+    s += "USB printer nodes (write-only: the job is sent raw, nothing answers):\n";
+    for (const auto& n : d.printer_nodes) s += "  " + n + "\n";
   }
   auto ports = plausible_ports(d);
   if (ports.empty()) s += "No plotter connected. Try the simulator: stipplot plot IN --profile P --sim\n";

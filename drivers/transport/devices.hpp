@@ -13,6 +13,9 @@ struct DeviceList {
   std::vector<SerialPortInfo> serial;
   std::vector<UsbDeviceInfo> usb;
   std::string usb_error;  // why libusb could not look (empty when it could)
+  // USB printer-class nodes the kernel's usblp driver made (/dev/usb/lpN): write-only
+  // sinks, as many HPGL plotters and cutters present themselves.
+  std::vector<std::string> printer_nodes;
 };
 DeviceList list_devices();
 

@@ -29,6 +29,7 @@ void register_devices(CLI::App& app) {
       for (const auto& u : d.usb)
         j["usb"].push_back({{"vid", u.vid}, {"pid", u.pid}, {"bus", u.bus}, {"address", u.address},
                             {"manufacturer", u.manufacturer}, {"product", u.product}, {"bulk_out", u.has_bulk_out}});
+      j["printer_nodes"] = d.printer_nodes;
       if (!d.usb_error.empty()) j["usb_error"] = d.usb_error;
       j["plausible"] = io::plausible_ports(d);
       std::printf("%s\n", j.dump().c_str());

@@ -89,6 +89,12 @@ TEST_CASE("device listing and port choice", "[drivers][transport]") {
   printer.has_bulk_out = true;
   two.usb.push_back(printer);
   CHECK_THROWS_WITH(choose_port(two), Catch::Contains("/dev/ttyUSB0") && Catch::Contains("usb:03f0:0107"));
+  // A USB printer node (usblp): a write-only sink, listed as one and plausible.
+  DeviceList lp;
+  lp.printer_nodes = {"/dev/usb/lp0"};
+  CHECK(choose_port(lp) == "/dev/usb/lp0");
+  CHECK(format_devices(lp).find("/dev/usb/lp0") != std::string::npos);
+  CHECK(format_devices(lp).find("write-only") != std::string::npos);
   // Real listing: never throws, says something either way.
   CHECK_FALSE(format_devices(list_devices()).empty());
 }
