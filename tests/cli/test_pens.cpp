@@ -74,7 +74,7 @@ TEST_CASE("every example palette with every colour method draws each pen once, l
   CHECK(palettes == 4);
 }
 
-TEST_CASE("pointillism and sketch with fineliner12: one layer a pen, light before dark, ebauche first in the plan", "[cli][palette]") {
+TEST_CASE("pointillism and sketch with fineliner12: one layer a pen, light before dark, each pen taken up once in the plan", "[cli][palette]") {
   test::TempDir t;
   const std::string toml = test::read_file(kFineliners);
   for (const std::string& method : {std::string("pointillism"), std::string("sketch")}) {
@@ -90,7 +90,7 @@ TEST_CASE("pointillism and sketch with fineliner12: one layer a pen, light befor
   }
 }
 
-TEST_CASE("--max-pens N draws with N pens that beat the palette's first N", "[cli][palette][max-pens]") {
+TEST_CASE("max pens: --max-pens N draws with N pens that beat the palette's first N", "[cli][palette][max-pens]") {
   test::TempDir t;
   // The palette's first four pens (black, grey, brown, red), the fixed other choice.
   const std::string toml = test::read_file(kFineliners);
@@ -128,7 +128,7 @@ TEST_CASE("--max-pens N draws with N pens that beat the palette's first N", "[cl
   CHECK(s.out.find("pens chosen: ") != std::string::npos);
 }
 
-TEST_CASE("--max-pens outside 1 .. the palette, or without one, is a one-line error", "[cli][palette][max-pens]") {
+TEST_CASE("max pens: --max-pens outside 1 .. the palette, or without one, is a one-line error", "[cli][palette][max-pens]") {
   test::TempDir t;
   for (const std::string& bad : {"--pens " + kFineliners + " --max-pens 13", "--pens " + kFineliners + " --max-pens 0",
                                  "--pens " + kFineliners + " --max-pens -2", std::string("--max-pens 3")}) {
