@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "eval/color_difference.hpp"
 #include "eval/fidelity.hpp"
@@ -43,7 +44,59 @@ SearchInput reduced_input(const MethodInput& in, size_t evaluations) {
 }
 
 namespace {
+// The pen-true render without planning, when every mark is a disc (dots, filled circles):
+// each pen's discs are one filled path, so the pen's ink is their union, multiplied onto
+// the page as the plan's render does. Null when some mark is a line or an area.
+std::optional<Image> render_discs(const Drawing& d, double dpi) {
+  Drawing discs;
+  discs.page = d.page;
+  for (const Layer& l : d.layers) {
+    if (!l.lines.empty() || !l.areas.empty()) return std::nullopt;
+    Layer m;
+    m.pen = l.pen;
+    m.dots = l.dots;
+    for (const Circle& c : l.circles) {
+      if (!c.filled) return std::nullopt;
+      m.dots.push_back(Dot{c.c, 2 * c.r});
+    }
+    discs.layers.push_back(std::move(m));
+  }
+  PreviewOptions ro;
+  ro.dpi = dpi;
+  return render_preview(discs, ro);
+}
+
+// The same for marks that are all lines and pen touches: their plan is the strokes as they
+// are (the order does not change the render). Null when some mark is wider than the pen.
+std::optional<Image> render_strokes(const Drawing& d, double dpi) {
+  Plan plan;
+  plan.page = d.page;
+  for (const Layer& l : d.layers) {
+    if (!l.circles.empty() || !l.areas.empty()) return std::nullopt;
+    PlannedLayer p;
+    p.pen = l.pen;
+    for (const Polyline& pl : l.lines)
+      if (!pl.pts.empty()) p.strokes.push_back(Stroke{pl.pts});
+    for (const Dot& dot : l.dots) {
+      if (dot.diameter > l.pen.width_mm) return std::nullopt;
+      p.strokes.push_back(Stroke{{dot.c}});
+    }
+    plan.layers.push_back(std::move(p));
+  }
+  PreviewOptions ro;
+  ro.dpi = dpi;
+  return render_plan(plan, ro);
+}
+
 double pen_true_error(const Drawing& d, const SearchInput& search) {
+  const PageTransform tf = search.placement.transform(search.image.width, search.image.height);
+  const double dpi = std::clamp(25.4 / tf.mm_per_px(), 150.0, 600.0);
+  const double sigma_px = 1.5 / tf.mm_per_px();
+  auto measure = [&](const Image& page) {
+    return mean_delta_e00_blurred(search.image, crop_to_image(page, tf, search.image.width, search.image.height), sigma_px);
+  };
+  if (const auto discs = render_discs(d, dpi)) return measure(*discs);
+  if (const auto strokes = render_strokes(d, dpi)) return measure(*strokes);
   PlanOptions po;
   po.optimize_effort = 0;
   po.optimize_seconds = 0;
@@ -51,11 +104,9 @@ double pen_true_error(const Drawing& d, const SearchInput& search) {
   // their short straight passes several times faster than the spirals' many arcs.
   po.fill = plan::FillMode::Hatch;
   const Plan plan = plan_drawing(d, po);
-  const PageTransform tf = search.placement.transform(search.image.width, search.image.height);
   PreviewOptions ro;
-  ro.dpi = std::clamp(25.4 / tf.mm_per_px(), 150.0, 600.0);
-  const Image drawn = crop_to_image(render_plan(plan, ro), tf, search.image.width, search.image.height);
-  return mean_delta_e00_blurred(search.image, drawn, 1.5 / tf.mm_per_px());
+  ro.dpi = dpi;
+  return measure(render_plan(plan, ro));
 }
 }  // namespace
 
