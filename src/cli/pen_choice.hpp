@@ -39,8 +39,9 @@ struct PenChoice {
 
 // The `n` pens of `palette` whose drawing, `drawing_for(pens)` on the search input,
 // reproduces `search.image` best: greedy forward selection (methods/palette.hpp) by the
-// mean CIEDE2000 of the blurred (sigma 1.5 mm) pen-true render of its plan (greedy tour,
-// no improvement, fills hatched) against the blurred image. n P - n (n - 1) / 2 drawings,
+// mean CIEDE2000 of the blurred (sigma 1.5 mm) pen-true render against the blurred image
+// (drawn without planning when the marks are all discs or all lines and touches; else of a
+// plan with a greedy tour, no improvement, fills hatched). n P - n (n - 1) / 2 drawings,
 // plans and renders of the search input, P the palette's size, each O(marks log marks +
 // render pixels x pens); reduced_input sizes the copy so they add up to about one run.
 PenChoice choose_pens(const std::vector<Pen>& palette, size_t n, const SearchInput& search,

@@ -173,3 +173,80 @@ TEST_CASE("a colour drawing with more pens than the carousel gets reload pauses,
   CHECK(glayers > 1);
   CHECK(changes == glayers - 1);
 }
+
+TEST_CASE("merge_layers_by_pen: one layer a pen in first-use order within it, light to dark", "[geometry][pens]") {
+  Drawing d;
+  const Pen red{"red", Color{220, 30, 30}, 0.4}, yellow{"yellow", Color{250, 220, 20}, 0.4}, black{"black", colors::black, 0.4};
+  auto layer = [](const Pen& p, double x, int pass) {
+    Layer l;
+    l.pen = p;
+    Circle c{{x, 0}, 1, true, p.color};
+    c.pass = pass;
+    l.circles.push_back(c);
+    return l;
+  };
+  d.layers = {layer(black, 1, 0), layer(red, 2, 0), layer(yellow, 3, 0), layer(red, 4, 1), layer(black, 5, 1)};
+  Layer other_width = layer(red, 6, 0);
+  other_width.pen.width_mm = 0.8;  // another pen, though of the same name and colour
+  d.layers.push_back(other_width);
+  merge_layers_by_pen(d);
+  REQUIRE(d.layers.size() == 4);
+  CHECK(d.layers[0].pen.name == "yellow");
+  CHECK(d.layers[1].pen.name == "red");
+  CHECK(d.layers[2].pen.name == "red");  // the 0.8 mm red: equal luminance, stable order
+  CHECK(d.layers[2].pen.width_mm == 0.8);
+  CHECK(d.layers[3].pen.name == "black");
+  REQUIRE(d.layers[1].circles.size() == 2);
+  CHECK(d.layers[1].circles[0].c.x == 2);  // merged in layer order, passes kept
+  CHECK(d.layers[1].circles[1].c.x == 4);
+  CHECK(d.layers[1].circles[1].pass == 1);
+  CHECK(d.layers[3].circles[1].c.x == 5);
+}
+
+TEST_CASE("cmyk inks go to the palette pens of their hue, where colour alone would pick grey", "[methods][pens]") {
+  // Four layers in the process inks (stipple's cmyk_inks colours).
+  Drawing d;
+  for (const Pen& ink : {Pen{"cyan", {0, 174, 239}, 0.3}, Pen{"magenta", {236, 0, 140}, 0.3},
+                         Pen{"yellow", {255, 221, 0}, 0.3}, Pen{"black", colors::black, 0.3}}) {
+    Layer l;
+    l.pen = ink;
+    l.dots.push_back(Dot{{1, 1}, 0.3});
+    d.layers.push_back(l);
+  }
+  auto names = [](const Drawing& m) {
+    std::vector<std::string> n;
+    for (const auto& l : m.layers) n.push_back(l.pen.name);
+    return n;
+  };
+  const auto fine = load_palette(kFineliners).pens;
+  CHECK(names(map_layers_to_pens(d, fine, true, InkMatch::hue)) ==
+        std::vector<std::string>{"yellow", "turquoise", "pink", "black"});
+  // The RGB primaries' palette: by colour alone cyan's nearest is the grey pen; by hue, cyan.
+  const auto rgb = load_palette(example("pens/paper_rgb.toml")).pens;
+  const auto by_colour = names(map_layers_to_pens(d, rgb, true, InkMatch::colour));
+  CHECK(std::count(by_colour.begin(), by_colour.end(), "grey") == 1);
+  CHECK(std::count(by_colour.begin(), by_colour.end(), "cyan") == 0);
+  CHECK(names(map_layers_to_pens(d, rgb, true, InkMatch::hue)) == std::vector<std::string>{"yellow", "cyan", "magenta", "black"});
+  // Every layer keeps its width; two inks on one pen share its layer.
+  const Drawing one = map_layers_to_pens(d, {Pen{"blue", Color{31, 78, 156}, 0.5}}, false);
+  REQUIRE(one.layers.size() == 1);
+  CHECK(one.layers[0].dots.size() == 4);
+  CHECK(one.layers[0].pen.width_mm == 0.3);
+}
+
+TEST_CASE("choose_pens_greedy adds the best pen each round", "[methods][pens]") {
+  // Error: distance of the chosen set's sum to 10, pens worth 1 .. 6: greedy takes 6, then 4.
+  const std::vector<double> worth{1, 2, 3, 4, 5, 6};
+  size_t calls = 0;
+  const auto chosen = choose_pens_greedy(worth.size(), 2, [&](const std::vector<size_t>& set) {
+    ++calls;
+    CHECK(std::is_sorted(set.begin(), set.end()));
+    double sum = 0;
+    for (size_t i : set) sum += worth[i];
+    return std::abs(10 - sum);
+  });
+  CHECK(chosen == std::vector<size_t>{3, 5});
+  CHECK(calls == greedy_pen_evaluations(6, 2));
+  CHECK(calls == 11);
+  CHECK(choose_pens_greedy(3, 5, [](const std::vector<size_t>&) { return 0.0; }).size() == 3);
+}
