@@ -303,10 +303,11 @@ void register_stipple(CLI::App& app) {
       ->capture_default_str()->group(g);
   cmd->add_option("--seed", args->seed, "Random seed; the same seed gives the same drawing")->capture_default_str()->group(g);
   cmd->add_option("--pens", args->pens_file,
-                  "color, cmyk: TOML palette of your pens; each of the method's inks (cmyk: cyan, magenta, yellow, "
-                  "black; color: its 26 screen colours on grey paper) is drawn with the palette pen nearest to it "
-                  "(CIEDE2000), the paper where that is nearer; inks given one pen share its layer. cmyk refuses a "
-                  "palette with no pen within dE00 30 of an ink (black.toml: use -m color, a one-pen drawing)")
+                  "color, cmyk: TOML palette of your pens; each of the method's inks is drawn with the palette "
+                  "pen nearest to it, inks given one pen sharing its layer. cmyk: cyan, magenta and yellow by hue "
+                  "(CIEDE2000 at the ink's lightness), black by colour; a palette with no pen within dE00 30 of an "
+                  "ink is refused (black.toml: use -m color). color: its 26 screen colours on grey paper by "
+                  "CIEDE2000, or the paper where that is nearer (black.toml: a one-pen drawing)")
       ->group("Pens");
   add_max_pens_option(cmd, args->max_pens);
   m->define(
