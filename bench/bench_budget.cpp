@@ -5,6 +5,10 @@
 //    SVG); BM_StippleOneRun: the same command drawing once at the knob the search chose
 //    (--knob), with the same plan and SVG. Likewise for sketch (one full run, then the
 //    thinning). The target is <= 2x.
+//  - BM_PointillismMaxPens: `pointillism coffee.png --pens fineliner12.toml --max-pens 4`
+//    (the pen search on its small copy, then the drawing); BM_PointillismChosenPens: the
+//    same command given only the four pens chosen, no search. Likewise for sketch, whose
+//    search draws one small sketch a set. The target is <= 2x.
 #include <CLI/CLI.hpp>
 #include <fcntl.h>
 #include <unistd.h>
@@ -16,6 +20,7 @@
 #include <sstream>
 
 #include "cli/commands.hpp"
+#include "methods/palette.hpp"
 #include "ratio_reporter.hpp"
 
 namespace {
@@ -73,11 +78,50 @@ void BM_StippleSearch(benchmark::State& s) { search(s, "stipple"); }
 void BM_StippleOneRun(benchmark::State& s) { one_run(s, "stipple"); }
 void BM_SketchSearch(benchmark::State& s) { search(s, "sketch"); }
 void BM_SketchOneRun(benchmark::State& s) { one_run(s, "sketch"); }
+// --max-pens 4 of the twelve fineliners, and the same command with only the pens it chose.
+std::vector<std::string> max_pens_command(const char* method) {
+  auto args = command(method);
+  args.insert(args.end(), {"--pens", example("pens/fineliner12.toml"), "--max-pens", "4"});
+  return args;
+}
+std::vector<std::string> chosen_pens_command(const char* method) {
+  const auto chosen = nlohmann::json::parse(run_command(max_pens_command(method)))["max_pens"]["pens"];
+  const std::string toml = (fs::temp_directory_path() / (std::string("stipplot_bench_chosen_") + method + ".toml")).string();
+  std::ofstream f(toml);
+  for (const stipplot::Pen& p : stipplot::load_palette(example("pens/fineliner12.toml")).pens)
+    for (const auto& name : chosen)
+      if (name.get<std::string>() == p.name)
+        f << "[[pen]]\nname = \"" << p.name << "\"\ncolor = \"" << p.color.hex() << "\"\nwidth = " << p.width_mm << "\n";
+  f.close();
+  auto args = command(method);
+  args.insert(args.end(), {"--pens", toml});
+  return args;
+}
+void max_pens(benchmark::State& state, const char* method) {
+  const auto args = max_pens_command(method);
+  for (auto _ : state) benchmark::DoNotOptimize(run_command(args));
+}
+void chosen_pens(benchmark::State& state, const char* method) {
+  const auto args = chosen_pens_command(method);
+  for (auto _ : state) benchmark::DoNotOptimize(run_command(args));
+}
+void BM_PointillismMaxPens(benchmark::State& s) { max_pens(s, "pointillism"); }
+void BM_PointillismChosenPens(benchmark::State& s) { chosen_pens(s, "pointillism"); }
+void BM_SketchMaxPens(benchmark::State& s) { max_pens(s, "sketch"); }
+void BM_SketchChosenPens(benchmark::State& s) { chosen_pens(s, "sketch"); }
+
 BENCHMARK(BM_StippleSearch)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_StippleOneRun)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_SketchSearch)->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_SketchOneRun)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_PointillismMaxPens)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_PointillismChosenPens)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_SketchMaxPens)->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_SketchChosenPens)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 
-STIPPLOT_BENCH_MAIN({{"BM_StippleOneRun", "BM_StippleSearch"}, {"BM_SketchOneRun", "BM_SketchSearch"}})
+STIPPLOT_BENCH_MAIN({{"BM_StippleOneRun", "BM_StippleSearch"},
+                     {"BM_SketchOneRun", "BM_SketchSearch"},
+                     {"BM_PointillismChosenPens", "BM_PointillismMaxPens"},
+                     {"BM_SketchChosenPens", "BM_SketchMaxPens"}})

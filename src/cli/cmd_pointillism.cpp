@@ -4,6 +4,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/method_command.hpp"
+#include "cli/pen_choice.hpp"
 #include "eval/color_difference.hpp"
 #include "methods/palette.hpp"
 #include "methods/pointillism/pens.hpp"
@@ -22,6 +23,7 @@ struct PointillismArgs {
   bool plot_pens = false;
   bool fidelity = false;
   double fidelity_sigma = 0;
+  int max_pens = -1;  // not given
   Length radius_length;
   std::vector<Pen> pens;
 };
@@ -42,6 +44,7 @@ void resolve(PointillismArgs& a) {
   a.pens.clear();
   if (!a.pens_file.empty()) a.pens = load_palette(a.pens_file, pointillism::kDefaultPenWidthMm).pens;
   else if (a.plot_pens) a.pens = pointillism::default_pens();
+  check_max_pens(a.max_pens, a.pens.size(), a.pens_file.empty() ? "the built-in palette" : a.pens_file);
 }
 
 nlohmann::json regions_summary(const pointillism::Result& res) {
@@ -68,13 +71,23 @@ MethodResult draw(PointillismArgs& a, const MethodInput& in) {
   }
   auto res = std::make_shared<pointillism::Result>(pointillism::paint(in.image, a.p));
   MethodResult out;
-  out.drawing = pointillism::place(*res, in.placement, a.pens);
+  std::vector<Pen> draw_pens = a.pens;
+  PenChoice choice;
+  if (a.max_pens > 0) {
+    // The circles do not depend on the pens: paint the small copy once, place it per set.
+    const SearchInput search = reduced_input(in, greedy_pen_evaluations(a.pens.size(), static_cast<size_t>(a.max_pens)));
+    const pointillism::Result small = pointillism::paint(search.image, a.p);
+    choice = choose_pens(a.pens, static_cast<size_t>(a.max_pens), search,
+                         [&](const std::vector<Pen>& set) { return pointillism::place(small, search.placement, set); });
+    draw_pens = choice.pens;
+  }
+  out.drawing = pointillism::place(*res, in.placement, draw_pens);
   const bool pens = !a.pens.empty();
   nlohmann::json& s = out.summary;
   s["radius_px"] = a.p.radius_px;
   s["ebauche_circles"] = res->ebauche.size();
   s["stroke_circles"] = res->strokes.size();
-  s["pens"] = pens ? nlohmann::json(a.pens.size()) : nlohmann::json("exact colours");
+  s["pens"] = pens ? nlohmann::json(draw_pens.size()) : nlohmann::json("exact colours");
   s["regions"] = regions_summary(*res);
   // Exact colours are opaque paint, one dot covering what is under it; pens are
   // translucent ink that darkens what it crosses.
@@ -95,6 +108,7 @@ MethodResult draw(PointillismArgs& a, const MethodInput& in) {
   }
   out.counts = std::to_string(res->ebauche.size()) + " ebauche + " + std::to_string(res->strokes.size()) +
                " stroke circles in " + layers_phrase(out.drawing.layers.size()) + " (" + pixel_size(in.image) + ")";
+  if (a.max_pens > 0) report_pen_choice(choice, out);
   return out;
 }
 }  // namespace
@@ -105,7 +119,8 @@ void register_pointillism(CLI::App& app) {
       app, "pointillism", "Neo-impressionist pointillism: ebauche + divided strokes in complementary colours",
       "An ebauche of overlapping circles in the input's colours, then per L* region dots of the pure\n"
       "colour and its complement (Sugita & Takahashi). Exact colours by default (SVG/preview for screens);\n"
-      "--plot-pens or --pens FILE.toml maps every circle to the nearest pen (CIEDE2000), one layer per pen.\n"
+      "--plot-pens or --pens FILE.toml maps every circle to the nearest pen (CIEDE2000), one layer per pen\n"
+      "(its ebauche, then its dots), light pens before dark; --max-pens N draws with the N that fit best.\n"
       "Pens file: [[pen]] name = \"red\"  color = \"#e42a26\"  width = 0.4\n"
       "Example: stipplot pointillism photo.jpg -o photo.svg --preview photo.png --regions 16 --weight 1.2");
   CLI::App* cmd = m->cli();
@@ -136,6 +151,7 @@ void register_pointillism(CLI::App& app) {
   cmd->add_flag("--plot-pens", args->plot_pens, "Map colours to the built-in fineliner palette, one layer per pen")
       ->group("Pens");
   cmd->add_option("--pens", args->pens_file, "TOML pen palette (implies --plot-pens)")->group("Pens");
+  add_max_pens_option(cmd, args->max_pens);
   m->add_png_output("--regions-png", "Also write the region split (Fig. 6c) as a PNG", "regions_png", "");
   cmd->add_flag("--fidelity", args->fidelity,
                 "Measure mean CIEDE2000 between blurred preview and blurred input (adds mean_de00)")

@@ -3,6 +3,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/method_command.hpp"
+#include "cli/pen_choice.hpp"
 #include "eval/color_difference.hpp"
 #include "methods/palette.hpp"
 #include "methods/sketch/sketch.hpp"
@@ -26,6 +27,7 @@ struct SketchArgs {
   sketch::SketchParams p;
   sketch::PreviewStyle style = sketch::PreviewStyle::Paper;
   bool space_given = false;
+  int max_pens = -1;  // not given
 };
 
 // Options to parameters, before any work.
@@ -50,11 +52,24 @@ void resolve(SketchArgs& a) {
   a.p.sampler = a.sampler == "lds" ? sketch::SketchParams::Sampler::LowDiscrepancy : sketch::SketchParams::Sampler::Random;
   if (a.preview_style != "pen") a.style = sketch::parse_preview_style(a.preview_style);
   require_range("--blur-cells", a.blur_cells, 0, 100);
+  check_max_pens(a.max_pens, a.pens_file.empty() ? 0 : a.p.pens.size(), a.pens_file);
   a.p.validate();
 }
 
 MethodResult draw(const SketchArgs& a, const MethodInput& in) {
-  auto r = std::make_shared<sketch::SketchResult>(sketch::sketch_strokes(in.image, a.p, in.placement));
+  sketch::SketchParams p = a.p;
+  PenChoice choice;
+  if (a.max_pens > 0) {
+    // The strokes depend on the pens (each pen's probability): one small sketch a set.
+    const SearchInput search = reduced_input(in, greedy_pen_evaluations(p.pens.size(), static_cast<size_t>(a.max_pens)));
+    choice = choose_pens(a.p.pens, static_cast<size_t>(a.max_pens), search, [&](const std::vector<Pen>& set) {
+      sketch::SketchParams q = a.p;
+      q.pens = set;
+      return sketch::to_drawing(sketch::sketch_strokes(search.image, q, search.placement));
+    });
+    p.pens = choice.pens;
+  }
+  auto r = std::make_shared<sketch::SketchResult>(sketch::sketch_strokes(in.image, p, in.placement));
   MethodResult out;
   out.drawing = sketch::to_drawing(*r);
   nlohmann::json& s = out.summary;
@@ -87,6 +102,7 @@ MethodResult draw(const SketchArgs& a, const MethodInput& in) {
   out.counts = std::to_string(out.drawing.primitive_count()) + " strokes in " + layers_phrase(out.drawing.layers.size()) +
                " (" + sketch::to_string(a.p.space) + ", grid " + std::to_string(r->grid_w) + "x" +
                std::to_string(r->grid_h) + ")";
+  if (a.max_pens > 0) report_pen_choice(choice, out);
   return out;
 }
 }  // namespace
@@ -98,13 +114,15 @@ void register_sketch(CLI::App& app) {
       "Spaces: rgb (8 pens: R G B Y M C black grey; RGB distance, the paper's d), hsi (6 hue pens + black;\n"
       "hue difference, black from saturation, marks lightened where the pixel is brighter than the pen).\n"
       "--pens FILE.toml uses your own pens with the RGB distance model (see examples/pens/).\n"
-      "Each pen gets its own SVG layer; the preview averages colours where strokes overlap.\n"
+      "--max-pens N (with --pens) draws with the N pens of the palette that reproduce the photo best.\n"
+      "Each pen gets its own SVG layer, light pens first; the preview averages colours where strokes overlap.\n"
       "Example: stipplot sketch photo.jpg --space rgb -o photo.svg --preview photo.png --measure\n"
       "         stipplot sketch photo.jpg --pens examples/pens/fineliner12.toml -o photo.svg");
   CLI::App* cmd = m->cli();
   auto* space_opt = cmd->add_option("--space", args->space, "rgb|hsi: the built-in pen set and probability model")
                         ->capture_default_str()->group("Sketch");
   cmd->add_option("--pens", args->pens_file, "TOML palette of your pens (RGB distance model)")->group("Sketch");
+  add_max_pens_option(cmd, args->max_pens);
   cmd->add_option("--reach", args->p.reach, "--pens: RGB reach d of every pen (0 = distance to the nearest other pen, at most sqrt(3)/2)")
       ->capture_default_str()->group("Sketch");
   cmd->add_option("--cell", args->cell, "Sampling grid cell: mm on paper (0.6, 0.6mm), input pixels (3px), or auto: sqrt(--mark x pen width), one mark's ink per cell")

@@ -6,6 +6,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/method_command.hpp"
+#include "cli/pen_choice.hpp"
+#include "methods/palette.hpp"
 #include "methods/stipple/stipple.hpp"
 #include "util/error.hpp"
 #include "util/progress.hpp"
@@ -23,7 +25,35 @@ struct StippleArgs {
   StippleMethod m = StippleMethod::Gray;
   PageStipple page;
   double max_dot_mm = 0;  // 0 = the budget's
+  std::string pens_file;  // color and cmyk: draw the separation's inks with these pens
+  int max_pens = -1;  // not given
+  std::vector<Pen> palette;
 };
+
+// A process ink with no palette pen this near (CIEDE2000) would be drawn in a colour
+// that is not its own: the separation would be wrong, not merely approximate.
+constexpr double kCmykInkReach = 30;
+
+// Every process ink has a palette pen near it, or one line naming the ink that has none.
+void check_cmyk_palette(const std::vector<Pen>& palette, const std::string& file) {
+  for (const Pen& ink : cmyk_inks()) {
+    double best = std::numeric_limits<double>::infinity();
+    std::string nearest;
+    for (const Pen& p : palette) {
+      const double d = ink_distance(ink.color, p.color, InkMatch::hue);
+      if (d < best) best = d, nearest = p.name;
+    }
+    if (best > kCmykInkReach) {
+      std::ostringstream os;
+      os.setf(std::ios::fixed);
+      os.precision(0);
+      os << "--pens " << file << ": -m cmyk needs a pen near " << ink.name << " (the nearest, '" << nearest
+         << "', is dE00 " << best << " away, more than " << kCmykInkReach
+         << "); use -m color, which draws with any palette, or -m gray";
+      throw UserError(os.str());
+    }
+  }
+}
 
 void resolve(StippleArgs& a) {
   a.m = parse_stipple_method(a.method);
@@ -40,6 +70,14 @@ void resolve(StippleArgs& a) {
   a.max_dot_mm = a.max_dot.empty() ? 0 : parse_paper_mm(a.max_dot, "--max-dot");
   if (!a.max_dot.empty()) require_range("--max-dot", a.max_dot_mm, 0.01, 100);
   a.page.validate();
+  a.palette.clear();
+  if (!a.pens_file.empty()) {
+    if (a.m != StippleMethod::Color && a.m != StippleMethod::Cmyk)
+      throw UserError("--pens applies to -m color and -m cmyk (the other methods draw in one ink)");
+    a.palette = load_palette(a.pens_file).pens;
+    if (a.m == StippleMethod::Cmyk && a.max_pens < 1) check_cmyk_palette(a.palette, a.pens_file);
+  }
+  check_max_pens(a.max_pens, a.palette.size(), a.pens_file);
 }
 
 // The knob: for the tone law, k in [0, 1/2] lays the share 2k of the tone with the
@@ -149,7 +187,8 @@ class StippleDraft {
     r.drawing = stipple_on_page(canvas, law, tf_.mm_per_px(), a_.seed,
                                 [&](double f) { bar.update(static_cast<uint64_t>(f * 1000)); });
     bar.finish();
-    r.screen_colours = a_.m == StippleMethod::Color;
+    r.screen_colours = a_.m == StippleMethod::Color && pens_.empty();
+    if (!pens_.empty()) r.drawing = map_layers_to_pens(r.drawing, pens_, true, ink_match());
     size_t dots = 0;
     double dmin = std::numeric_limits<double>::infinity(), dmax = 0;
     for (const auto& l : r.drawing.layers)
@@ -197,6 +236,11 @@ class StippleDraft {
     return pc;
   }
 
+  // Draw with these pens (the layers' inks mapped to the nearest, see map_layers_to_pens).
+  void use_pens(std::vector<Pen> pens) { pens_ = std::move(pens); }
+  // cmyk's inks are process colours whose lightness the separation sets: matched by hue.
+  InkMatch ink_match() const { return a_.m == StippleMethod::Cmyk ? InkMatch::hue : InkMatch::colour; }
+
   double tone_share(double k) const { return a_.page.law == StippleLaw::Tone ? std::min(1.0, 2 * k) : 1.0; }
   double ink_needed() const { return ink_needed_; }
 
@@ -210,7 +254,20 @@ class StippleDraft {
   std::vector<CoverageCurve> curves_;  // per pass: the pilot's tone reproduction curve
   double count_factor_ = 1;            // the pilot's dots / the law's
   std::map<double, std::shared_ptr<StippleCanvas>> canvases_;
+  std::vector<Pen> pens_;  // empty: the method's own inks (or screen colours)
 };
+
+// --max-pens: the separation does not depend on the pens, so the small copy is stippled
+// once (full tone, the largest dots: the fewest) and each set of pens maps its layers.
+PenChoice choose_stipple_pens(const StippleArgs& a, const MethodInput& in) {
+  const size_t n = static_cast<size_t>(a.max_pens);
+  const SearchInput search = reduced_input(in, greedy_pen_evaluations(a.palette.size(), n));
+  const MethodInput small{search.image, search.placement, in.costs, false};
+  StippleDraft draft(a, small);
+  const Drawing screen = draft.draw(0.5).drawing;
+  return choose_pens(a.palette, n, search,
+                     [&](const std::vector<Pen>& set) { return map_layers_to_pens(screen, set, true, draft.ink_match()); });
+}
 }  // namespace
 
 void register_stipple(CLI::App& app) {
@@ -220,6 +277,7 @@ void register_stipple(CLI::App& app) {
       "Methods: gray (dark pixels first; the paper's method), random (random order, for comparison),\n"
       "negative (white dots on black), binary (black and white dots on grey paper),\n"
       "color (binary per R, G, B: the paper's 27-colour screen result), cmyk (ink separation for plotting).\n"
+      "color and cmyk take --pens FILE.toml (your pens for their inks) and --max-pens N.\n"
       "Laws: tone (default: dots sized and spaced on the page so the ink lays the photo's tones, as\n"
       "dense as --time allows), linear (the paper's r = a + b d/255; -a/-b in mm or input px, 3px).\n"
       "Example: stipplot stipple photo.jpg -o photo.svg --preview photo.png --time 45min\n"
@@ -244,6 +302,14 @@ void register_stipple(CLI::App& app) {
                   "Tone: Lloyd iterations that even the dots' spacing (weighted Voronoi, as StippleGen); 0 = as sampled")
       ->capture_default_str()->group(g);
   cmd->add_option("--seed", args->seed, "Random seed; the same seed gives the same drawing")->capture_default_str()->group(g);
+  cmd->add_option("--pens", args->pens_file,
+                  "color, cmyk: TOML palette of your pens; each of the method's inks is drawn with the palette "
+                  "pen nearest to it, inks given one pen sharing its layer. cmyk: cyan, magenta and yellow by hue "
+                  "(CIEDE2000 at the ink's lightness), black by colour; a palette with no pen within dE00 30 of an "
+                  "ink is refused (black.toml: use -m color). color: its 26 screen colours on grey paper by "
+                  "CIEDE2000, or the paper where that is nearer (black.toml: a one-pen drawing)")
+      ->group("Pens");
+  add_max_pens_option(cmd, args->max_pens);
   m->define(
       [args, law, linear] {
         args->law_given = law->count() > 0;
@@ -252,9 +318,16 @@ void register_stipple(CLI::App& app) {
       },
             [args](const MethodInput& in) {
               auto d = std::make_shared<StippleDraft>(*args, in);
+              auto choice = std::make_shared<PenChoice>();
+              if (args->max_pens > 0) *choice = choose_stipple_pens(*args, in);
+              d->use_pens(args->max_pens > 0 ? choice->pens : args->palette);
               MethodDraft draft;
               draft.predict = [d](double k) { return d->predict(k); };
-              draft.draw = [d](double k) { return d->draw(k); };
+              draft.draw = [d, choice, n = args->max_pens](double k) {
+                MethodResult r = d->draw(k);
+                if (n > 0) report_pen_choice(*choice, r);
+                return r;
+              };
               draft.calibrate = [d](double k) { d->calibrate(k); };
               draft.tone_share = [d](double k) { return d->tone_share(k); };
               draft.ink_needed = d->ink_needed();

@@ -368,6 +368,9 @@ void MethodCommand::run() const {
   }
   MethodResult r = std::move(runs.at(so.knob));
   runs.clear();
+  // Each pen taken up once, light inks before dark (a dark pen never drags through a
+  // light one's wet ink), whatever the method.
+  merge_layers_by_pen(r.drawing);
   // Every mark inside the image's rectangle on the page: strokes shaped near the border
   // must not run past it, nor off a page with no margin.
   const Vec2 img_lo = tf.map(0, 0), img_hi = tf.map(image.width, image.height);

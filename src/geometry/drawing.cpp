@@ -1,6 +1,7 @@
 #include "geometry/drawing.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <set>
 
@@ -49,6 +50,44 @@ void resolve_pen_numbers(Drawing& d) {
     l.pen.number = next;
     used.insert(next);
   }
+}
+
+double relative_luminance(Color c) {
+  auto lin = [](uint8_t v) {
+    const double x = v / 255.0;
+    return x <= 0.04045 ? x / 12.92 : std::pow((x + 0.055) / 1.055, 2.4);
+  };
+  return 0.2126 * lin(c.r) + 0.7152 * lin(c.g) + 0.0722 * lin(c.b);
+}
+
+namespace {
+bool same_pen(const Pen& a, const Pen& b) {
+  return a.name == b.name && a.color == b.color && a.width_mm == b.width_mm && a.number == b.number;
+}
+template <class T>
+void append(std::vector<T>& to, std::vector<T>& from) {
+  to.insert(to.end(), std::make_move_iterator(from.begin()), std::make_move_iterator(from.end()));
+}
+}  // namespace
+
+void merge_layers_by_pen(Drawing& d) {
+  std::vector<Layer> merged;
+  merged.reserve(d.layers.size());
+  for (Layer& l : d.layers) {
+    auto it = std::find_if(merged.begin(), merged.end(), [&](const Layer& m) { return same_pen(m.pen, l.pen); });
+    if (it == merged.end()) {
+      merged.push_back(std::move(l));
+      continue;
+    }
+    append(it->dots, l.dots);
+    append(it->lines, l.lines);
+    append(it->circles, l.circles);
+    append(it->areas, l.areas);
+  }
+  std::stable_sort(merged.begin(), merged.end(), [](const Layer& a, const Layer& b) {
+    return relative_luminance(a.pen.color) > relative_luminance(b.pen.color);
+  });
+  d.layers = std::move(merged);
 }
 
 }  // namespace stipplot

@@ -42,6 +42,10 @@ struct Circle {
   double r = 0;  // mm
   bool filled = false;
   Color fill = colors::black;  // exact fill colour for SVG/preview; plotters use the pen
+  // Within its layer's pen, circles of a lower pass are drawn before those of a higher one
+  // (a pointillist's ebauche before the dots over it: wet ink is not dragged through);
+  // the planner orders each pass on its own. Lines, dots and areas are in pass 0.
+  int pass = 0;
 };
 
 // Which points a set of rings fills (SVG's fill-rule): nonzero winding, or an odd number
@@ -93,5 +97,15 @@ struct Drawing {
 // layer order, so numbered layers keep theirs and unnumbered ones never share a pen by
 // accident (layers 1 and "2 red" and an unnumbered one: 1, 2, 3). O(layers log layers).
 void resolve_pen_numbers(Drawing& d);
+
+// One layer a pen: layers with the same pen (name, colour, width and number) become the
+// first one, the others' primitives appended in layer order (so each keeps its circles'
+// passes), then the layers are ordered light to dark by the relative luminance of the pen
+// colour (stable), so a dark ink is never dragged through a light one and each pen is
+// taken up once. O(primitives + layers^2).
+void merge_layers_by_pen(Drawing& d);
+
+// The relative luminance of an sRGB colour (0 black .. 1 white), as WCAG defines it.
+double relative_luminance(Color c);
 
 }  // namespace stipplot

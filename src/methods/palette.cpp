@@ -1,5 +1,6 @@
 #include "methods/palette.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -115,6 +116,63 @@ size_t PenMatcher::nearest(Color c) {
   }
   cache_.emplace(key, static_cast<uint32_t>(best));
   return best;
+}
+
+double ink_distance(Color ink, Color pen, InkMatch how) {
+  const Lab a = lab::from_srgb(ink), b = lab::from_srgb(pen);
+  constexpr double achromatic = 10;  // chroma below which a colour has no hue to speak of
+  if (how == InkMatch::colour || std::hypot(a.a, a.b) <= achromatic || std::hypot(b.a, b.b) <= achromatic)
+    return ciede2000(a, b);
+  return ciede2000(a, Lab{a.L, b.a, b.b});
+}
+
+Drawing map_layers_to_pens(const Drawing& d, const std::vector<Pen>& pens, bool paper_is_free, InkMatch how) {
+  std::vector<Pen> candidates = pens;
+  if (paper_is_free) candidates.push_back(Pen{"paper", d.page.paper, 0});
+  if (candidates.empty()) throw UserError("--pens: the palette is empty");
+  Drawing out;
+  out.page = d.page;
+  for (const Layer& l : d.layers) {
+    size_t k = 0;
+    for (size_t i = 1; i < candidates.size(); ++i)
+      if (ink_distance(l.pen.color, candidates[i].color, how) < ink_distance(l.pen.color, candidates[k].color, how))
+        k = i;
+    if (k == pens.size()) continue;  // the paper
+    Layer m = l;
+    m.pen.name = pens[k].name;
+    m.pen.color = pens[k].color;
+    for (Circle& c : m.circles)
+      if (c.filled) c.fill = pens[k].color;
+    for (Area& a : m.areas) a.fill = pens[k].color;
+    out.layers.push_back(std::move(m));
+  }
+  merge_layers_by_pen(out);
+  return out;
+}
+
+std::vector<size_t> choose_pens_greedy(size_t palette_size, size_t n,
+                                       const std::function<double(const std::vector<size_t>&)>& error) {
+  std::vector<size_t> chosen;
+  std::vector<bool> taken(palette_size, false);
+  for (size_t round = 0; round < std::min(n, palette_size); ++round) {
+    size_t best = palette_size;
+    double best_error = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < palette_size; ++i) {
+      if (taken[i]) continue;
+      std::vector<size_t> trial = chosen;
+      trial.insert(std::upper_bound(trial.begin(), trial.end(), i), i);
+      const double e = error(trial);
+      if (e < best_error || best == palette_size) best_error = e, best = i;
+    }
+    taken[best] = true;
+    chosen.insert(std::upper_bound(chosen.begin(), chosen.end(), best), best);
+  }
+  return chosen;
+}
+
+size_t greedy_pen_evaluations(size_t palette_size, size_t n) {
+  n = std::min(n, palette_size);
+  return n * palette_size - n * (n - 1) / 2;
 }
 
 }  // namespace stipplot

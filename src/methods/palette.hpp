@@ -11,6 +11,7 @@
 //
 // Unknown keys are rejected so a typo ("colour", "widht") is not silently ignored.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -48,5 +49,32 @@ class PenMatcher {
   std::vector<Lab> pen_lab_;
   std::unordered_map<uint32_t, uint32_t> cache_;
 };
+
+// How far a pen is from the ink a layer asks for. `colour`: CIEDE2000 between them.
+// `hue`: for a process ink and a pen that both have a hue (chroma above 10), CIEDE2000
+// between the ink and the pen's chroma and hue at the ink's lightness, since a separation
+// sets an ink's lightness by its coverage, so a pen of the ink's hue but another
+// lightness still separates the image right; a grey pen, or an achromatic ink (black),
+// keeps the full difference (without a hue only the colour itself can match).
+enum class InkMatch { colour, hue };
+double ink_distance(Color ink, Color pen, InkMatch how);
+
+// Every layer drawn with the nearest of `pens` to its pen colour (ink_distance): the layer
+// takes that pen's name and colour and keeps its own width (the method sized its marks
+// for it); a layer whose colour is nearer the paper than every pen is dropped when
+// `paper_is_free`. Layers given one pen are merged (merge_layers_by_pen), light to dark.
+// O(primitives + layers x pens).
+Drawing map_layers_to_pens(const Drawing& d, const std::vector<Pen>& pens, bool paper_is_free,
+                           InkMatch how = InkMatch::colour);
+
+// The `n` of `palette_size` pens that best reproduce an image, by greedy forward
+// selection: n rounds, each adding the pen whose addition gives the lowest `error` of the
+// chosen set (indices ascending). Exhaustive search would cost C(P, n) evaluations;
+// greedy costs n P - n (n - 1) / 2 calls of `error`. Returns the indices, ascending.
+std::vector<size_t> choose_pens_greedy(size_t palette_size, size_t n,
+                                       const std::function<double(const std::vector<size_t>&)>& error);
+
+// How many evaluations choose_pens_greedy makes for n of p pens.
+size_t greedy_pen_evaluations(size_t palette_size, size_t n);
 
 }  // namespace stipplot

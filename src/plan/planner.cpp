@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <set>
 #include <stdexcept>
 
 #include "plan/hatch.hpp"
@@ -32,13 +33,21 @@ namespace {
 
 // A layer's primitives as strokes, with the path operations that do not depend on the
 // order: joins, simplification and the length filter for polylines, fills, passes.
-void add_layer_strokes(const Layer& layer, const PlanOptions& opt, std::vector<Stroke>& out) {
+// `pass`: only the layer's circles of that pass, and its other primitives with pass 0.
+void add_layer_strokes(const Layer& layer, const PlanOptions& opt, int pass, std::vector<Stroke>& out) {
   plan::FillOptions fill;
   fill.mode = opt.fill;
   fill.pen_width = layer.pen.width_mm;
   fill.pitch_fraction = opt.fill_pitch;
   fill.chord_tolerance = opt.chord_tolerance_mm;
   const size_t first = out.size();
+  if (pass != 0) {
+    for (const Circle& c : layer.circles)
+      if (c.pass == pass) out.push_back(plan::circle_stroke(c, fill));
+    if (opt.passes > 1)
+      for (size_t i = first; i < out.size(); ++i) plan::multipass_stroke(out[i], opt.passes);
+    return;
+  }
   for (Stroke& s : plan::join_polylines(layer.lines, opt.join_tolerance_mm)) {
     if (opt.simplify_mm > 0) plan::simplify_stroke(s, opt.simplify_mm);
     if (opt.min_length_mm > 0 && s.pts.size() >= 2 && plan::stroke_length(s) < opt.min_length_mm) continue;
@@ -52,7 +61,8 @@ void add_layer_strokes(const Layer& layer, const PlanOptions& opt, std::vector<S
       out.push_back(plan::circle_stroke(Circle{dot.c, dot.diameter / 2, true, layer.pen.color}, fill));
     }
   }
-  for (const Circle& c : layer.circles) out.push_back(plan::circle_stroke(c, fill));
+  for (const Circle& c : layer.circles)
+    if (c.pass == 0) out.push_back(plan::circle_stroke(c, fill));
   plan::HatchOptions hatch;
   hatch.spacing_mm = opt.hatch_spacing_mm > 0 ? opt.hatch_spacing_mm : opt.fill_pitch * layer.pen.width_mm;
   hatch.angle_degrees = opt.hatch_angle_degrees;
@@ -197,16 +207,25 @@ Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info) {
   for (const PenGroup& group : group_by_pen(d)) {
     PlannedLayer out;
     out.pen = group.pen;
-    std::vector<Stroke> strokes;
-    size_t nodes = 0;
-    for (const Layer* layer : group.layers) {
-      add_layer_strokes(*layer, opt, strokes);
-      nodes += node_count(*layer);
+    // Each pass of the pen's circles is one tour, from where the previous one ended.
+    std::set<int> passes{0};
+    for (const Layer* layer : group.layers)
+      for (const Circle& c : layer->circles) passes.insert(c.pass);
+    for (const int pass : passes) {
+      std::vector<Stroke> strokes;
+      size_t nodes = 0;
+      for (const Layer* layer : group.layers) {
+        add_layer_strokes(*layer, opt, pass, strokes);
+        nodes += passes.size() == 1 ? node_count(*layer) : 0;
+      }
+      if (passes.size() > 1) nodes = strokes.size();
+      const double share = total_nodes == 0 ? 0 : static_cast<double>(nodes) / total_nodes;
+      std::vector<Stroke> ordered = order_strokes(std::move(strokes), pos, opt, total_nodes, share, local);
+      if (opt.reloop) plan::reloop_strokes(ordered, pos);
+      if (!ordered.empty()) pos = ordered.back().pts.back();
+      out.strokes.insert(out.strokes.end(), std::make_move_iterator(ordered.begin()),
+                         std::make_move_iterator(ordered.end()));
     }
-    const double share = total_nodes == 0 ? 0 : static_cast<double>(nodes) / total_nodes;
-    out.strokes = order_strokes(std::move(strokes), pos, opt, total_nodes, share, local);
-    if (opt.reloop) plan::reloop_strokes(out.strokes, pos);
-    if (!out.strokes.empty()) pos = out.strokes.back().pts.back();
     plan.layers.push_back(std::move(out));
   }
   local.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

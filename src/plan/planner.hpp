@@ -48,7 +48,8 @@ struct PlanOptions {
 // allows (a tree's segments: half its odd-degree vertices), then simplified and filtered
 // by length; circles are outlined or filled, areas hatched; every stroke is given its
 // passes; then all strokes are ordered as an open travelling-salesman path (each stroke
-// in either direction) from where the previous pen ended, and relooped.
+// in either direction) from where the previous pen ended, and relooped. A pen whose
+// circles come in passes (Circle::pass) gets one such path a pass, lowest first.
 // Time: O(P + n k log n) to build strokes, candidate lists and the greedy edge tour
 // (P points, n strokes, k = neighbors), then the local search and the trials, O(n) work
 // per unit of effort in practice (see plan/tour.hpp).

@@ -106,32 +106,6 @@ TEST_CASE("eval prints blurred SSIM and edge spill", "[cli][eval]") {
   CHECK(r.err.find("--page") != std::string::npos);
 }
 
-TEST_CASE("every example palette draws with sketch --pens and pointillism --pens", "[cli][palette]") {
-  test::TempDir t;
-  size_t palettes = 0;
-  for (const auto& e : std::filesystem::directory_iterator(std::string(STIPPLOT_SOURCE_DIR) + "/examples/pens")) {
-    const std::string pal = e.path().string();
-    const std::string toml = test::read_file(pal);
-    size_t pens = 0;
-    for (size_t at = toml.find("[[pen]]"); at != std::string::npos; at = toml.find("[[pen]]", at + 1)) ++pens;
-    ++palettes;
-    for (const char* method : {"sketch", "pointillism"}) {
-      auto r = test::run_cli(std::string(method) + " " + sample("horse.png") + " --pens " + pal + " -o " +
-                             t.file("o.svg") + " --json");
-      INFO(method << " --pens " << pal << ": " << r.err);
-      REQUIRE(r.exit_code == 0);
-      auto j = nlohmann::json::parse(r.out);
-      CHECK(j["primitives"].get<size_t>() > 100);
-      REQUIRE(j["layers"].size() >= 1);
-      // every layer is one of the palette's pens (pointillism: per pass, "ebauche red")
-      const size_t most = std::string(method) == "sketch" ? pens : 2 * pens;
-      CHECK(j["layers"].size() <= most);
-      for (const auto& l : j["layers"]) CHECK(toml.find("\"" + l["color"].get<std::string>() + "\"") != std::string::npos);
-    }
-  }
-  CHECK(palettes == 4);
-}
-
 TEST_CASE("export --preview is the pen-true render of the plan, not the drawing's shapes", "[cli][export][preview]") {
   test::TempDir t;
   // A filled red circle: the drawing is a red disc, but with --fill none the pen only

@@ -320,3 +320,29 @@ TEST_CASE("non-finite drawings are user errors, not crashes", "[plan]") {
   d.layers[0].circles.push_back({{500, 500}, 1000, true});  // millions of passes
   CHECK_THROWS_AS(plan_drawing(d, PlanOptions{}), UserError);
 }
+
+TEST_CASE("a pen's circles are drawn pass by pass, each pass one tour", "[plan][passes]") {
+  // Pass 1 lies beside the origin, pass 0 far from it: a single tour would start with
+  // pass 1; passes keep pass 0 (the ebauche) first, then the dots over it.
+  Drawing d;
+  Layer l;
+  l.pen = Pen{"red", Color{200, 30, 30}, 0.4};
+  for (int i = 0; i < 20; ++i) {
+    Circle near{{1.0 + i, 1.0}, 0.3, true, l.pen.color};
+    near.pass = 1;
+    l.circles.push_back(near);
+    l.circles.push_back(Circle{{100.0 + i, 100.0}, 0.3, true, l.pen.color});
+  }
+  d.layers.push_back(l);
+  const Plan plan = plan_drawing(d, PlanOptions{});
+  REQUIRE(plan.layers.size() == 1);
+  const auto& strokes = plan.layers[0].strokes;
+  REQUIRE(strokes.size() == 40);
+  for (size_t i = 0; i < strokes.size(); ++i) {
+    INFO("stroke " << i);
+    CHECK((strokes[i].pts.front().x > 50) == (i < 20));  // the far pass 0 first
+  }
+  // All in pass 0: one tour, which starts at the origin's side.
+  for (auto& c : d.layers[0].circles) c.pass = 0;
+  CHECK(plan_drawing(d, PlanOptions{}).layers[0].strokes.front().pts.front().x < 50);
+}

@@ -295,16 +295,27 @@ TEST_CASE("drawing layers - exact colours ebauche first - pens nearest in CIEDE2
   }
   const auto pens = default_pens();
   const Drawing plot = place(r, pl, pens);
-  bool seen_strokes = false;
-  size_t circles = 0;
-  for (const auto& l : plot.layers) {
-    const bool eb = l.pen.name.rfind("ebauche ", 0) == 0;
-    if (!eb) seen_strokes = true;
-    CHECK((eb || l.pen.name.rfind("strokes ", 0) == 0));
-    CHECK_FALSE((eb && seen_strokes));  // every ebauche layer before any strokes layer
-    for (const auto& c : l.circles) CHECK(c.fill == l.pen.color);
+  size_t circles = 0, ebauche = 0;
+  std::set<std::string> names;
+  for (size_t i = 0; i < plot.layers.size(); ++i) {
+    const Layer& l = plot.layers[i];
+    // Each pen once, named as the palette names it, light pens before dark.
+    CHECK(names.insert(l.pen.name).second);
+    CHECK(std::any_of(pens.begin(), pens.end(), [&](const Pen& p) { return p.name == l.pen.name && p.color == l.pen.color; }));
+    if (i > 0) CHECK(relative_luminance(plot.layers[i - 1].pen.color) >= relative_luminance(l.pen.color));
+    // Within a pen, every ebauche circle (pass 0) before any stroke dot (pass 1).
+    bool seen_strokes = false;
+    for (const auto& c : l.circles) {
+      CHECK(c.fill == l.pen.color);
+      REQUIRE((c.pass == 0 || c.pass == 1));
+      if (c.pass == 1) seen_strokes = true;
+      CHECK_FALSE((c.pass == 0 && seen_strokes));
+      ebauche += c.pass == 0;
+    }
     circles += l.circles.size();
   }
+  CHECK(ebauche <= r.ebauche.size());
+  CHECK(ebauche > r.ebauche.size() * 9 / 10);
   CHECK(circles <= r.ebauche.size() + r.strokes.size());
   CHECK(circles > (r.ebauche.size() + r.strokes.size()) * 9 / 10);  // the synthetic image has no white
   // White stays paper: an all-white photo needs no pen at all.
@@ -406,9 +417,16 @@ TEST_CASE("CLI - pointillism writes SVG - preview and JSON - bad input fails wit
   const std::string svg = test::read_file(t.file("a.svg"));
   CHECK(svg.find("ebauche") < svg.find("divided strokes"));
 
-  test::RunResult pens = test::run_cli("pointillism " + kCoffee + " -o " + t.file("p.svg") + " --plot-pens --radius 1mm -q");
-  CHECK(pens.exit_code == 0);
-  CHECK(test::read_file(t.file("p.svg")).find("ebauche ") != std::string::npos);
+  test::RunResult pens = test::run_cli("pointillism " + kCoffee + " -o " + t.file("p.svg") + " --plot-pens --radius 1mm --json");
+  REQUIRE(pens.exit_code == 0);
+  // One layer a pen, each named as the pen (its ebauche and dots together).
+  const auto pj = nlohmann::json::parse(pens.out);
+  REQUIRE(pj["layers"].size() >= 2);
+  std::set<std::string> pen_names;
+  for (const auto& l : pj["layers"]) {
+    CHECK(pen_names.insert(l["pen"].get<std::string>()).second);
+    CHECK(test::read_file(t.file("p.svg")).find(l["pen"].get<std::string>()) != std::string::npos);
+  }
 
   for (const std::string& args :
        {std::string("--regions 0"), std::string("--weight -1"), std::string("--radius 0"), std::string("--radius -2"),

@@ -247,12 +247,13 @@ TEST_CASE("serve http: a plot asks for each pen by name, and an aborted one resu
   CHECK(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 409);  // one plot per device
   json st = wait_for_plot(cl, [](const json& j) { return j["status"] == "pen_change" || j["status"] == "done"; });
   REQUIRE(st["status"] == "pen_change");
-  CHECK(st["pen_change"].get<std::string>().find("pen 2 magenta") != std::string::npos);
+  // Light inks first: yellow, cyan, magenta, black.
+  CHECK(st["pen_change"].get<std::string>().find("pen 2 cyan") != std::string::npos);
   CHECK(cl.Post("/api/plot/pause", R"({"port":"sim"})", "application/json")->status == 409);  // waiting for the pen
   REQUIRE(cl.Post("/api/plot/continue", R"({"port":"sim"})", "application/json")->status == 200);
-  st = wait_for_plot(cl, [](const json& j) { return j["status"] == "pen_change" && j["pen_change"].get<std::string>().find("yellow") != std::string::npos; });
+  st = wait_for_plot(cl, [](const json& j) { return j["status"] == "pen_change" && j["pen_change"].get<std::string>().find("magenta") != std::string::npos; });
   REQUIRE(st["status"] == "pen_change");
-  // Abort at the yellow pen: the journal keeps what was done, and the plot goes on from it.
+  // Abort at the magenta pen: the journal keeps what was done, and the plot goes on from it.
   REQUIRE(cl.Post("/api/plot/abort", R"({"port":"sim"})", "application/json")->status == 200);
   st = wait_for_plot(cl, [](const json& j) { return j["status"] == "stopped" || j["status"] == "done"; });
   REQUIRE(st["status"] == "stopped");
@@ -260,7 +261,7 @@ TEST_CASE("serve http: a plot asks for each pen by name, and an aborted one resu
   CHECK(st["message"].get<std::string>().find("--resume") != std::string::npos);
   const auto done_before = st["lines_acked"].get<size_t>();
   REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim","resume":true})", "application/json")->status == 200);
-  // The resumed job asks for the pens still to come (yellow again if the abort came before
+  // The resumed job asks for the pens still to come (magenta again if the abort came before
   // its M0 was acknowledged, then black), by name.
   std::vector<std::string> asked;
   for (int i = 0; i < 3; ++i) {

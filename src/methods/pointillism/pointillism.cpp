@@ -266,10 +266,6 @@ Result paint(const Image& image, const Params& p) {
   return r;
 }
 
-namespace {
-double lightness(const Pen& p) { return lab::from_srgb(p.color).L; }
-}  // namespace
-
 Drawing place(const Result& r, const Placement& placement, const std::vector<Pen>& pens) {
   const PageTransform tf = placement.transform(r.width, r.height);
   Drawing d;
@@ -302,28 +298,25 @@ Drawing place(const Result& r, const Placement& placement, const std::vector<Pen
   std::vector<Pen> candidates = pens;
   candidates.push_back(Pen{"paper", d.page.paper, 0});
   PenMatcher match(candidates);
-  // Light inks before dark within each pass, so a dark pen never drags into a light one's
-  // wet ink; the ebauche's pass before the strokes'.
-  std::vector<size_t> by_light(pens.size());
-  for (size_t i = 0; i < pens.size(); ++i) by_light[i] = i;
-  std::stable_sort(by_light.begin(), by_light.end(),
-                   [&](size_t a, size_t b) { return lightness(pens[a]) > lightness(pens[b]); });
-  auto pass = [&](const std::vector<PaintDot>& dots, const char* what) {
-    std::vector<Layer> layers(pens.size());
+  std::vector<Layer> layers(pens.size());
+  auto pass = [&](const std::vector<PaintDot>& dots, int pass_index) {
     for (const auto& p : dots) {
       const size_t k = match.nearest(p.color);
       if (k == pens.size()) continue;  // the paper
-      layers[k].circles.push_back(circle(p, pens[k].color));
-    }
-    for (size_t k : by_light) {
-      if (layers[k].circles.empty()) continue;
-      layers[k].pen = pens[k];
-      layers[k].pen.name = std::string(what) + " " + pens[k].name;
-      d.layers.push_back(std::move(layers[k]));
+      Circle c = circle(p, pens[k].color);
+      c.pass = pass_index;
+      layers[k].circles.push_back(c);
     }
   };
-  pass(r.ebauche, "ebauche");
-  pass(r.strokes, "strokes");
+  pass(r.ebauche, 0);
+  pass(r.strokes, 1);
+  for (size_t k = 0; k < pens.size(); ++k) {
+    if (layers[k].circles.empty()) continue;
+    layers[k].pen = pens[k];
+    d.layers.push_back(std::move(layers[k]));
+  }
+  // Light inks before dark, so a dark pen never drags into a light one's wet ink.
+  merge_layers_by_pen(d);
   return d;
 }
 

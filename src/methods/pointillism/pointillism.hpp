@@ -102,9 +102,11 @@ Result paint(const Image& image, const Params& params);
 
 // On the page. With `pens` empty: exact colours, two layers ("ebauche" beneath,
 // "divided strokes" above), every circle filled with its exact colour. With pens: every
-// circle's colour mapped to the nearest pen (CIEDE2000), one layer per pen used, the
-// ebauche's layers first; circles filled with the pen colour (the planner fills them
-// at the pen width); a circle nearer the paper colour than to every pen is not drawn.
+// circle's colour mapped to the nearest pen (CIEDE2000), one layer per pen used, named
+// as the pen, light pens before dark; within a pen its ebauche circles are pass 0 and its
+// strokes' pass 1 (drawn first, then the dots over them); circles filled with the pen
+// colour (the planner fills them at the pen width); a circle nearer the paper colour
+// than to every pen is not drawn.
 // O(dots + distinct colours * pens).
 Drawing place(const Result& r, const Placement& placement, const std::vector<Pen>& pens = {});
 

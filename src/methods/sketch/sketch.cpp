@@ -362,6 +362,7 @@ Drawing to_drawing(const SketchResult& r) {
       if (s.plotted) l.lines.push_back(s.line);
     if (!l.lines.empty()) d.layers.push_back(std::move(l));
   }
+  merge_layers_by_pen(d);  // light pens before dark
   return d;
 }
 

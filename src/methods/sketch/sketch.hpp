@@ -96,7 +96,8 @@ struct SketchResult {
 // (probabilities, structure tensor, k Newton steps per pen, guide tables), M strokes.
 SketchResult sketch_strokes(const Image& image, const SketchParams& params, const Placement& placement);
 
-// The Drawing to plot: one layer per pen with its plotted strokes (empty pens dropped).
+// The Drawing to plot: one layer per pen with its plotted strokes (empty pens dropped),
+// light pens before dark (merge_layers_by_pen).
 Drawing to_drawing(const SketchResult& r);
 
 // Pure function image + parameters -> Drawing.

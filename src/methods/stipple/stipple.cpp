@@ -122,6 +122,12 @@ const Pen kCmykPens[4] = {{"cyan", {0, 174, 239}, 0.3},
                           {"yellow", {255, 221, 0}, 0.3},
                           {"black", colors::black, 0.3}};
 
+}  // namespace
+
+std::vector<Pen> cmyk_inks() { return {std::begin(kCmykPens), std::end(kCmykPens)}; }
+
+namespace {
+
 // Planes, passes and pens of each method (pens without widths: the caller's).
 void method_setup(const Image& image, StippleMethod method, std::vector<std::vector<uint8_t>>& planes,
                   std::vector<StipplePass>& passes, std::vector<Pen>& pens, Color& paper) {

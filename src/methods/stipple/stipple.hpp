@@ -70,6 +70,9 @@ Drawing place_stipple(const StippleResult& r, const Placement& placement);
 // dense plane 255 * (1 - coverage), in the order C, M, Y, K. O(pixels).
 std::vector<std::vector<uint8_t>> cmyk_separation(const Image& image);
 
+// The process inks the cmyk method's layers are drawn in: cyan, magenta, yellow, black.
+std::vector<Pen> cmyk_inks();
+
 // ---- on the page ----
 
 enum class StippleLaw { Tone, Linear };
