@@ -525,7 +525,11 @@ void GrblSim::halt(double t) {
 // line, as finished blocks are recorded at their programmed ends.
 motion::Vec3 GrblSim::traced_position() const {
   motion::Vec3 p = motion_.position();
-  if (motion_.blocks().empty()) return p;
+  if (motion_.blocks().empty()) {  // at rest where the last move ended, as it was recorded
+    p[0] = rec_.x();
+    p[1] = rec_.y();
+    return p;
+  }
   const motion::Vec3& to = motion_.blocks().front().target;
   const double x0 = rec_.x(), y0 = rec_.y(), dx = to[0] - x0, dy = to[1] - y0, len2 = dx * dx + dy * dy;
   if (len2 <= 0) return p;

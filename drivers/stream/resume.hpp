@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "drivers/job/job.hpp"
+#include "drivers/stream/journal.hpp"
 
 namespace stipplot::io {
 
@@ -27,5 +28,27 @@ struct DevicePen {
 // moved. Throws UserError for a job it cannot resume (G91, no pen-up command).
 // O(job size).
 ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device = {});
+
+// How far the device may be from the journal when the host did not stop it (killed,
+// link lost): lines it may have run that the journal never heard of (its receive buffer
+// holds at most `ahead_bytes`), and acknowledged moves it may never have run (its
+// planner, up to `back_moves`, when its buffers were lost since).
+struct ResumeWindow {
+  size_t ahead_bytes = 0;
+  size_t back_moves = 0;
+};
+
+// The first line to resume from. After a stop that dropped the device's buffers (the
+// journal says so), the line after the last acknowledged; otherwise the first line of
+// the window from which the device's pen, as it is now, continues: the pen where and as
+// the line before leaves it, or on the line's own path (begun, not finished). Earlier
+// rather than later when lines end alike: a move drawn twice, never one lost. With
+// nothing matching, the window's first line. O(window).
+size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window);
+
+// What `plot --resume` does once the device is connected and idle: resume_point, then
+// plan_resume from there.
+ResumePlan resume_from_journal(const Job& job, const JournalState& journal, const DevicePen& device = {},
+                               const ResumeWindow& window = {});
 
 }  // namespace stipplot::io

@@ -47,6 +47,16 @@ namespace {
 std::atomic<int> g_interrupts{0};
 extern "C" void on_plot_sigint(int) { g_interrupts.fetch_add(1); }
 
+// SIGTERM and SIGHUP stop the plot as an abort does (feed hold, the device's buffers
+// dropped, the journal exact), so that --resume continues without a line lost or
+// redrawn. The handler only stores to lock-free atomics.
+std::atomic<std::atomic<bool>*> g_abort_target{nullptr};
+std::atomic<int> g_stop_signal{0};
+extern "C" void on_plot_stop_signal(int sig) {
+  g_stop_signal.store(sig);
+  if (std::atomic<bool>* a = g_abort_target.load()) a->store(true);
+}
+
 struct PlotArgs {
   std::string input, profile, port, resume, job_out;
   PlanArgs plan;      // an SVG's planning
@@ -243,8 +253,17 @@ class PlotProgress {
  public:
   PlotProgress(const PlotArgs& A, size_t lines) : A_(A), bar_("plot", lines, !A.quiet && !A.json) {
     std::signal(SIGINT, on_plot_sigint);
+    g_abort_target.store(&controls.abort);
+    if (g_stop_signal.load()) controls.abort = true;
+    for (int sig : {SIGTERM, SIGHUP}) std::signal(sig, on_plot_stop_signal);
     if (A.control) g_control.start(controls);
   }
+  ~PlotProgress() {
+    for (int sig : {SIGTERM, SIGHUP}) std::signal(sig, SIG_DFL);
+    g_abort_target.store(nullptr);
+  }
+  PlotProgress(const PlotProgress&) = delete;
+  PlotProgress& operator=(const PlotProgress&) = delete;
   io::StreamControls controls;
 
   void operator()(const io::StreamProgress& p) {
@@ -363,7 +382,7 @@ io::StreamResult run_grbl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
     A.log("check mode: all " + std::to_string(job.lines.size()) + " lines accepted");
   }
   io::ResumePlan rp{pj.start(), {}};
-  if (pj.resuming) rp = io::plan_resume(job, pj.start(), st.device_pen(pj.pen_rule));
+  if (pj.resuming) rp = io::resume_from_journal(job, pj.resume_state, st.device_pen(pj.pen_rule), st.resume_window());
   return st.stream(job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
 
@@ -375,7 +394,7 @@ io::StreamResult run_hpgl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
   io::hpgl::Streamer st(port, o);
   st.connect();
   io::ResumePlan rp{pj.start(), {}};
-  if (pj.resuming) rp = io::plan_resume(pj.job, pj.start());
+  if (pj.resuming) rp = io::resume_from_journal(pj.job, pj.resume_state, st.device_pen(), st.resume_window());
   return st.stream(pj.job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
 
@@ -459,6 +478,10 @@ void plot(PlotArgs& A) {
   if (link.sim) render_sim_record(A, pj, *link.sim, s);
   s["seconds"] = seconds_since(t0);
   print_result(A, pj, res, link.sim != nullptr, s);
+  if (!res.completed && g_stop_signal.load())
+    throw UserError(std::string("stopped by ") + (g_stop_signal.load() == SIGHUP ? "SIGHUP" : "SIGTERM") +
+                    " at line " + std::to_string(res.last_acked + 1) +
+                    " (machine held and reset, journal saved); continue with: stipplot plot --resume " + pj.prepared.path);
   if (!res.completed)
     throw UserError("plot stopped at line " + std::to_string(res.last_acked + 1) + "; continue with: stipplot plot --resume " +
                     pj.prepared.path);

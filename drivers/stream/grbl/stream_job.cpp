@@ -234,22 +234,26 @@ class Streamer::JobRun {
       if (idx >= 0) acknowledge(l);
       return;
     }
-    collect_answers_in_flight();
-    session_.sync_journal();
-    throw DeviceError(msg + " (the job stopped; that line was not executed)", idx, code, false);
+    // grbl drops the rejected line but runs the lines behind it in its receive buffer
+    // (protocol.c reports the error and reads on): the machine would draw on without
+    // it. Stop it at once and resume from the rejected line, which was not executed.
+    try {
+      stop_machine();
+      session_.rollback_to(std::min(rollback_to_executed(true), idx - 1));
+      session_.device_cleared();
+    } catch (const TransportError&) {
+      session_.rollback_to(std::min(executed_estimate(), idx - 1));
+    }
+    throw DeviceError(msg + " (the job stopped; that line was not executed: --resume sends it again, or fix it if it is wrong)",
+                      idx, code, false);
   }
 
-  // Sending has stopped; the lines already in grbl's buffer still run: collect them.
-  void collect_answers_in_flight() {
-    auto end = clock::now() + Millis(10000);
-    while (!window_.empty() && clock::now() < end) {
-      std::string r;
-      if (!s_.reader_.read_line(r, Millis(100))) continue;
-      const Reply reply = classify_reply(r);
-      if (!reply.answers_a_line()) continue;
-      const LineWindow::Line l = window_.answered();
-      if (reply.kind == ReplyKind::Ok) acknowledge(l);
-    }
+  // Feed hold, wait until the machine stands, then a soft reset: grbl's buffers are
+  // dropped without the position loss (ALARM:3) a reset in motion causes.
+  void stop_machine() {
+    s_.t_.write("!");
+    status_after_hold(Millis(5000));
+    s_.soft_reset();
   }
 
   [[noreturn]] void on_alarm(int code) {
@@ -262,6 +266,7 @@ class Streamer::JobRun {
       reset_ok = false;
     }
     rollback_to_executed(reset_ok);
+    if (reset_ok) session_.device_cleared();
     throw DeviceError("grbl ALARM:" + std::to_string(code) + " near line " + std::to_string(idx + 1) + ": " +
                           alarm_meaning(code) + " The machine is locked: check it, unlock ($X) or re-home, then resume.",
                       idx, code, true);
@@ -269,6 +274,7 @@ class Streamer::JobRun {
 
   [[noreturn]] void on_restart() {
     const long done = rollback_to_executed(true);
+    session_.device_cleared();
     throw DeviceError("grbl restarted during the job (reset or power loss); its buffer was lost. Resume continues after line " +
                           std::to_string(done + 1),
                       done, 0, true);
@@ -318,6 +324,7 @@ class Streamer::JobRun {
     if (answer == PauseAnswer::stop_after) acknowledge(window_.answered());
     try {
       s_.soft_reset();
+      session_.device_cleared();
     } catch (const TransportError&) {
     }
     session_.sync_journal();
@@ -407,18 +414,17 @@ class Streamer::JobRun {
   }
 
   StreamResult abort() {
-    s_.t_.write("!");
-    std::this_thread::sleep_for(Millis(200));
-    status_after_hold(Millis(2000));
-    s_.soft_reset();
+    stop_machine();
     const long done = rollback_to_executed(true);
+    session_.device_cleared();
     StreamResult res = session_.finish();
     s_.note("job aborted; the machine was reset. Resume continues after line " + std::to_string(done + 1));
     return res;
   }
 
-  // A status report taken once the hold has stopped the machine, with every answer before
-  // it counted, so the snapshot is what grbl holds now.
+  // A status report taken once the hold has stopped the machine (Hold:0, or Idle when
+  // there was nothing to hold), with every answer before it counted, so the snapshot is
+  // what grbl holds now.
   void status_after_hold(Millis timeout) {
     const auto end = clock::now() + timeout;
     bool asked = false;
@@ -435,7 +441,8 @@ class Streamer::JobRun {
         if (r.kind == ReplyKind::Ok) acknowledge(l);
       } else if (Status st; r.kind == ReplyKind::Status && parse_status(line, st)) {
         take_snapshot(st);
-        if (asked) return;
+        if (asked && st.state != "Run" && st.state != "Hold:1" && st.state != "Jog") return;
+        asked = false;  // still stopping: ask again once the line is quiet
       }
     }
   }

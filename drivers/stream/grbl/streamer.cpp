@@ -94,6 +94,7 @@ void Streamer::connect() {
   // An Arduino resets when the port opens and prints its banner; a board that did not
   // reset answers a status query instead; failing both, ask for a soft reset.
   bool alive = wait_for_banner(Millis(400), Millis(50));
+  restarted_ = alive;
   Status st;
   if (!alive) {
     try {
@@ -106,6 +107,7 @@ void Streamer::connect() {
   if (!alive) {
     try {
       soft_reset();
+      restarted_ = true;
     } catch (const TransportError& e) {
       if (e.kind() != TransportError::Kind::Timeout) throw;
       throw TransportError(TransportError::Kind::Timeout,
@@ -121,10 +123,16 @@ void Streamer::connect() {
     system_command("$X", Millis(3000));
     note("grbl was in ALARM; unlocked with $X");
   }
-  // Still finishing earlier work (after a reconnect): wait for it.
+  // Still finishing earlier work (after a reconnect): wait for it. A hold left by a dead
+  // host keeps motion nobody is watching: stop it (a reset once the hold is complete
+  // keeps the position) rather than let it run on.
   auto wait_end = clock::now() + std::chrono::minutes(30);
   while ((st.state == "Run" || st.state.rfind("Hold", 0) == 0 || st.state == "Jog") && clock::now() < wait_end) {
-    if (st.state.rfind("Hold", 0) == 0) t_.write("~");
+    if (st.state == "Hold:0") {
+      soft_reset();
+      restarted_ = true;
+      note("grbl was left in a feed hold with motion buffered: reset it (the resume goes from where it stopped)");
+    }
     std::this_thread::sleep_for(Millis(100));
     st = query_status(Millis(3000));
   }
