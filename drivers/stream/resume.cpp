@@ -121,7 +121,7 @@ ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device) {
   if (in_place && job.dialect == Dialect::GCode) {
     // Pen already as it was: only the modal state needs restoring (as a full resume
     // from the settled point would restore it).
-    ResumePlan rp{next, {}};
+    ResumePlan rp{next, {}, {}};
     for (const auto& l : gcode_preamble(L, settle_resume_point(job, next)))
       if (l == "G21" || l == "G90" || l == "G20" || l == "G0" || l == "G1" || l.rfind("G1 F", 0) == 0 ||
           l.rfind("G0 F", 0) == 0)
@@ -129,7 +129,7 @@ ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device) {
     return rp;
   }
   next = settle_resume_point(job, next);
-  return {next, job.dialect == Dialect::GCode ? gcode_preamble(L, next) : hpgl_preamble(L, next)};
+  return {next, job.dialect == Dialect::GCode ? gcode_preamble(L, next) : hpgl_preamble(L, next), {}};
 }
 
 namespace {
@@ -164,14 +164,21 @@ size_t resume_point(const Job& job, const JournalState& journal, const DevicePen
     if (device_before(L, k, device, tol)) return k;
     if (k == L.size()) break;
     if (device_within(L, k, device, tol)) return k;
-    if (k >= next && (bytes += L[k].host_only ? 0 : L[k].text.size() + 1) > window.ahead_bytes) break;
+    if (k >= next && (bytes += L[k].host_only ? 0 : L[k].text.size() + window.line_end_bytes) > window.ahead_bytes) break;
   }
   return lo;
 }
 
 ResumePlan resume_from_journal(const Job& job, const JournalState& journal, const DevicePen& device,
                                const ResumeWindow& window) {
-  return plan_resume(job, resume_point(job, journal, device, window), device);
+  const size_t from = resume_point(job, journal, device, window);
+  ResumePlan rp = plan_resume(job, from, device);
+  const size_t after = static_cast<size_t>(journal.last_acked + 1);
+  if (from != after)
+    rp.note = "the journal ends at line " + std::to_string(after) + " but the device's pen is where line " +
+              std::to_string(from) + " left it" + (from > after ? " (it ran on after the host)" : "") +
+              ": resuming from line " + std::to_string(from + 1);
+  return rp;
 }
 
 }  // namespace stipplot::io

@@ -11,6 +11,7 @@ namespace stipplot::io {
 struct ResumePlan {
   size_t next = 0;                    // first job line to send after the preamble
   std::vector<std::string> preamble;  // lines to send first
+  std::string note;                   // why it is not the line after the journal's last, if it is not
 };
 
 // What the device reports about its pen, when it can (grbl: spindle speed and Z from a
@@ -36,6 +37,7 @@ ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device = {}
 struct ResumeWindow {
   size_t ahead_bytes = 0;
   size_t back_moves = 0;
+  size_t line_end_bytes = 1;  // what ends a line on the wire ('\n'; none between HPGL instructions)
 };
 
 // The first line to resume from. After a stop that dropped the device's buffers (the

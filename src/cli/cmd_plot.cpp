@@ -356,6 +356,13 @@ io::PauseAnswer answer_pause(const PlotArgs& A, const io::PauseRequest& p) {
   return answer.empty() || (answer[0] != 'a' && answer[0] != 'A') ? io::PauseAnswer::go : io::PauseAnswer::stop;
 }
 
+// Where to go on, from the journal and the device as it is now (as the fault tests resume).
+io::ResumePlan resume_plan(const PlotArgs& A, const PlotJob& pj, const io::DevicePen& device, const io::ResumeWindow& w) {
+  io::ResumePlan rp = io::resume_from_journal(pj.job, pj.resume_state, device, w);
+  if (!rp.note.empty()) A.log(rp.note);
+  return rp;
+}
+
 // grbl: connect, compare its settings with the job, check mode if asked, resume where
 // the device's pen is, stream.
 io::StreamResult run_grbl(const PlotArgs& A, const PlotJob& pj, io::Transport& port, io::Journal& journal,
@@ -381,8 +388,8 @@ io::StreamResult run_grbl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
     }
     A.log("check mode: all " + std::to_string(job.lines.size()) + " lines accepted");
   }
-  io::ResumePlan rp{pj.start(), {}};
-  if (pj.resuming) rp = io::resume_from_journal(job, pj.resume_state, st.device_pen(pj.pen_rule), st.resume_window());
+  io::ResumePlan rp{pj.start(), {}, {}};
+  if (pj.resuming) rp = resume_plan(A, pj, st.device_pen(pj.pen_rule), st.resume_window());
   return st.stream(job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
 
@@ -393,8 +400,8 @@ io::StreamResult run_hpgl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
   o.on_pause = [&A](const io::PauseRequest& p) { return answer_pause(A, p); };
   io::hpgl::Streamer st(port, o);
   st.connect();
-  io::ResumePlan rp{pj.start(), {}};
-  if (pj.resuming) rp = io::resume_from_journal(pj.job, pj.resume_state, st.device_pen(), st.resume_window());
+  io::ResumePlan rp{pj.start(), {}, {}};
+  if (pj.resuming) rp = resume_plan(A, pj, st.device_pen(), st.resume_window());
   return st.stream(pj.job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
 
@@ -481,7 +488,7 @@ void plot(PlotArgs& A) {
   if (!res.completed && g_stop_signal.load())
     throw UserError(std::string("stopped by ") + (g_stop_signal.load() == SIGHUP ? "SIGHUP" : "SIGTERM") +
                     " at line " + std::to_string(res.last_acked + 1) +
-                    " (machine held and reset, journal saved); continue with: stipplot plot --resume " + pj.prepared.path);
+                    " (the device stopped and its buffer dropped, the journal saved); continue with: stipplot plot --resume " + pj.prepared.path);
   if (!res.completed)
     throw UserError("plot stopped at line " + std::to_string(res.last_acked + 1) + "; continue with: stipplot plot --resume " +
                     pj.prepared.path);

@@ -99,7 +99,7 @@ Cell grbl_cell(Fault fault, bool dots) {
     } catch (const UserError&) {
       continue;
     }
-    ResumePlan rp{0, {}};
+    ResumePlan rp{0, {}, {}};
     if (session > 0) rp = resume_from_journal(job, Journal::load(jpath), st.device_pen(), st.resume_window());
     c.completed = run_session<grbl::Streamer, grbl::Options>(st, job, jpath, session, rp);
     c.sessions = session + 1;
@@ -130,7 +130,7 @@ Cell hpgl_cell(Fault fault, bool dots) {
     } catch (const UserError&) {
       continue;
     }
-    ResumePlan rp{0, {}};
+    ResumePlan rp{0, {}, {}};
     if (session > 0) rp = resume_from_journal(job, Journal::load(jpath), st.device_pen(), st.resume_window());
     c.completed = run_session<hpgl::Streamer, hpgl::Options>(st, job, jpath, session, rp);
     c.sessions = session + 1;

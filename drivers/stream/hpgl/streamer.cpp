@@ -105,6 +105,13 @@ int Streamer::query(char c) {
 }
 
 void Streamer::connect() {
+  // Answers to a dead host's last queries may still wait on the port: not ours.
+  for (int i = 0; i < 20; ++i) {
+    const size_t before = incoming_.size();
+    pump(Millis(30));
+    if (incoming_.size() == before) break;
+  }
+  incoming_.clear();
   if (o_.handshake != HpglHandshake::buffer_query && !o_.status_queries) {
     buffer_ = o_.buffer_bytes;
     return;
@@ -287,8 +294,9 @@ class Streamer::JobRun {
   bool stream_polled() {
     for (;;) {
       if (abort_requested()) {
-        s_.t_.write("\x1b.K");  // abort graphics: drop the plotter's buffer
-        session_.device_cleared();
+        // Abort graphics: the plotter drops its buffer but finishes the instruction under
+        // way; the resume sees from where the pen is whether it did.
+        s_.t_.write("\x1b.K");
         return false;
       }
       // The free space, then the status: a plotter flags an error as it takes the

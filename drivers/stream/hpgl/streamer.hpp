@@ -60,7 +60,7 @@ class Streamer {
   // device's own units). Unknown without status queries or an answer.
   DevicePen device_pen();
   // How far a plotter left by a dead host may have drawn past the journal: its buffer.
-  ResumeWindow resume_window() const { return {static_cast<size_t>(std::max(buffer_, 0)), 0}; }
+  ResumeWindow resume_window() const { return {static_cast<size_t>(std::max(buffer_, 0)), 0, o_.newline ? 1u : 0u}; }
 
  private:
   class JobRun;  // one stream() call
