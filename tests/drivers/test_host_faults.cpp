@@ -3,21 +3,17 @@
 // plotter is an external `stipplot sim` process on a pty, so it outlives the host as a
 // real one does; what it drew (--record-out) is scored as the fault matrix scores it:
 // nothing lost, at most one move drawn twice, no stray mark.
-#include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <catch2/catch.hpp>
-#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <thread>
 
+#include "cli_child.hpp"
 #include "compare.hpp"
 #include "drivers/job/gcode_reader.hpp"
 #include "drivers/job/hpgl_reader.hpp"
@@ -25,9 +21,6 @@
 #include "drivers/stream/journal.hpp"
 #include "jobgen.hpp"
 #include "test_util.hpp"
-#include "util/error.hpp"
-
-extern char** environ;
 
 using namespace stipplot;
 using namespace stipplot::io;
@@ -77,33 +70,6 @@ class SimProcess {
   pid_t pid_ = 0;
 };
 
-// `stipplot ARGS` as a child with its output in files.
-pid_t spawn_cli(const std::string& args, const std::string& out, const std::string& err) {
-  const std::string cmd = "exec " + std::string(STIPPLOT_BIN) + " " + args + " >" + out + " 2>" + err + " </dev/null";
-  const char* argv[] = {"sh", "-c", cmd.c_str(), nullptr};
-  pid_t pid = 0;
-  REQUIRE(::posix_spawn(&pid, "/bin/sh", nullptr, nullptr, const_cast<char**>(argv), environ) == 0);
-  return pid;
-}
-
-// Waits until the journal has acknowledged `line` (the plot is under way) or the child
-// ended (its status in `status`, `ended` set).
-bool wait_for_ack(const std::string& journal, long line, pid_t child, int& status, bool& ended) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (std::chrono::steady_clock::now() < end) {
-    if (::waitpid(child, &status, WNOHANG) == child) {
-      ended = true;
-      return false;
-    }
-    try {
-      if (Journal::load(journal).last_acked >= line) return true;
-    } catch (const UserError&) {
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  }
-  return false;
-}
-
 struct HostCell {
   size_t lost = 0, doubled = 0, stray = 0;
   int first_status = 0;
@@ -124,14 +90,10 @@ HostCell host_cell(const std::string& kind, bool dots, int sig) {
   const std::string profile = hpgl ? " --profile hp7475a-a4" : "";
   SimProcess sim(kind, t.file("drawn.txt"));
   HostCell c;
-  const pid_t first = spawn_cli("plot " + job + profile + " --port " + sim.pty() + " -q", t.file("out1"), t.file("err1"));
-  bool ended = false;
-  const bool under_way =
-      wait_for_ack(Journal::path_for(job), static_cast<long>(parsed.lines.size() / 3), first, c.first_status, ended);
-  if (!ended) {
-    ::kill(first, under_way ? sig : SIGKILL);
-    REQUIRE(::waitpid(first, &c.first_status, 0) == first);
-  }
+  const pid_t first =
+      testjob::spawn_cli("plot " + job + profile + " --port " + sim.pty() + " -q", t.file("out1"), t.file("err1"));
+  const bool under_way = testjob::signal_when_under_way(first, Journal::path_for(job),
+                                                        static_cast<long>(parsed.lines.size() / 3), sig, c.first_status);
   c.first_err = slurp(t.file("err1"));
   REQUIRE(under_way);
   const auto second = test::run_cli("plot --resume " + job + profile + " --port " + sim.pty());

@@ -187,11 +187,14 @@ class Streamer::JobRun {
   }
 
   // The line answered was done; a job line (not the preamble) counts and is journalled.
-  void acknowledge(const LineWindow::Line& l) {
+  // A sync line's answer proves the moves before it ran, except after a reset: grbl ends
+  // the wait for its planner on the abort and still answers ok (protocol.c,
+  // protocol_buffer_synchronize returns on sys.abort; gc_execute_line reports STATUS_OK).
+  void acknowledge(const LineWindow::Line& l, bool proves_moves = true) {
     const long line = session_.job_line(l.item);
     if (line < 0) return;
     session_.acknowledge(line);
-    if (is_sync_line(session_.job().lines[static_cast<size_t>(line)].text)) {
+    if (proves_moves && is_sync_line(session_.job().lines[static_cast<size_t>(line)].text)) {
       // grbl answers a sync line once it has run, after every block before it: all
       // acknowledged moves are executed.
       last_sync_acked_ = line;
@@ -253,7 +256,26 @@ class Streamer::JobRun {
   void stop_machine() {
     s_.t_.write("!");
     status_after_hold(Millis(5000));
-    s_.soft_reset();
+    reset_counting_answers();
+  }
+
+  // Ctrl-X, counting the answers that arrive before grbl's banner: for lines it had taken
+  // before the reset (not proof that moves before them ran: see acknowledge).
+  void reset_counting_answers() {
+    s_.t_.write("\x18");
+    const auto end = clock::now() + o_.banner_timeout;
+    std::string line;
+    while (clock::now() < end) {
+      if (!s_.reader_.read_line(line, Millis(50))) continue;
+      const Reply r = classify_reply(line);
+      if (r.kind == ReplyKind::Banner) return;
+      if (r.answers_a_line() && !window_.empty()) {
+        const LineWindow::Line l = window_.answered();
+        if (r.kind == ReplyKind::Ok) acknowledge(l, false);
+      }
+    }
+    throw TransportError(TransportError::Kind::Timeout, "grbl did not restart after a soft reset (Ctrl-X) within " +
+                                                            std::to_string(o_.banner_timeout.count()) + " ms");
   }
 
   [[noreturn]] void on_alarm(int code) {
@@ -261,7 +283,7 @@ class Streamer::JobRun {
     // Leave the port sane: reset flushes grbl's buffers and restarts its parser.
     bool reset_ok = true;
     try {
-      s_.soft_reset();
+      reset_counting_answers();
     } catch (const TransportError&) {
       reset_ok = false;
     }
@@ -381,11 +403,10 @@ class Streamer::JobRun {
   long executed_at_position(double x, double y) const {
     constexpr double tol = 0.02;  // mm: a couple of steps
     const auto& L = session_.job().lines;
-    int in_planner = snapshot_.blocks_free >= 0 ? o_.planner_blocks - snapshot_.blocks_free : o_.planner_blocks;
-    const size_t first_kept = motion_acked_ - acked_motion_.size();
-    const size_t known = snapshot_.motion_acked > first_kept ? snapshot_.motion_acked - first_kept : 0;
-    in_planner = std::clamp(in_planner, 0, static_cast<int>(known));
-    for (size_t k = known - static_cast<size_t>(in_planner); k < acked_motion_.size(); ++k) {
+    // Every move not proved run by a sync line: grbl drops a block from its planner once
+    // the stepper has taken it, so the planner fill alone can call a move done that a
+    // hold and a reset cut short.
+    for (size_t k = 0; k < acked_motion_.size(); ++k) {
       const size_t line = static_cast<size_t>(acked_motion_[k]);
       const double x0 = line ? L[line - 1].x : 0, y0 = line ? L[line - 1].y : 0, x1 = L[line].x, y1 = L[line].y;
       const double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
@@ -405,7 +426,7 @@ class Streamer::JobRun {
       try {
         const Status st = s_.query_status(Millis(2000));
         const long at = executed_at_position(st.x, st.y);
-        if (at >= done) done = at;
+        if (at != -2) done = at;  // where the machine stands is what ran
       } catch (const TransportError&) {
       }
     }

@@ -90,6 +90,8 @@ class Streamer {
   void note(const std::string& s);
   // Reads lines until grbl's start-up banner, at most `timeout`; false if none came.
   bool wait_for_banner(Millis timeout, Millis slice = Millis(100));
+  // Until what an earlier session left in grbl has run (connect).
+  void wait_until_done(Status st);
   // Sends a '$' command and returns its answer (ok or error:N), waiting at most
   // `timeout` for each line; the lines grbl prints before the answer go to `lines`.
   std::string system_command(const std::string& cmd, Millis timeout, std::vector<std::string>* lines = nullptr);
