@@ -412,7 +412,10 @@ class Streamer::JobRun {
       const double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
       const double u = len2 > 0 ? std::clamp(((x - x0) * dx + (y - y0) * dy) / len2, 0.0, 1.0) : 0.0;
       if (std::hypot(x0 + u * dx - x, y0 + u * dy - y) > tol) continue;
-      return std::hypot(x1 - x, y1 - y) <= tol ? static_cast<long>(line) : static_cast<long>(line) - 1;
+      // Finished only at its end within MPos's rounding: a hold can stop a move one step
+      // short, and that move is then drawn again.
+      constexpr double at_end = 0.003;
+      return std::hypot(x1 - x, y1 - y) <= at_end ? static_cast<long>(line) : static_cast<long>(line) - 1;
     }
     return -2;
   }
