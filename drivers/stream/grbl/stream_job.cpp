@@ -1,6 +1,7 @@
 // The job loop of the grbl streamer: what one Streamer::stream() call does.
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <deque>
@@ -25,6 +26,16 @@ bool is_sync_line(const std::string& text) {
     }
   }
   return false;
+}
+
+// A line that only dwells (G4 P..): grbl skipping it changes no mark the lines behind it draw.
+bool only_dwell(const std::string& text) {
+  bool dwell = false;
+  for (const GcodeWord& w : gcode_words(text)) {
+    if (w.letter == 'G' && is_dwell(w)) dwell = true;
+    else if (w.letter != 'P' && w.letter != 'N') return false;
+  }
+  return dwell;
 }
 
 // "20", "0.6": the watchdog's time as a person reads it.
@@ -239,15 +250,19 @@ class Streamer::JobRun {
     }
     // grbl drops the rejected line but runs the lines behind it in its receive buffer
     // (protocol.c reports the error and reads on): the machine would draw on without
-    // it. Stop it at once and resume from the rejected line, which was not executed.
+    // it. Stop it at once and resume from the rejected line, which was not executed; a
+    // rejected dwell only changed the timing of what ran after it, which stays done.
+    const long first_undone = only_dwell(session_.text(l.item)) ? LONG_MAX : idx - 1;
     try {
       stop_machine();
-      session_.rollback_to(std::min(rollback_to_executed(true), idx - 1));
+      session_.rollback_to(std::min(rollback_to_executed(true), first_undone));
       session_.device_cleared();
     } catch (const TransportError&) {
-      session_.rollback_to(std::min(executed_estimate(), idx - 1));
+      session_.rollback_to(std::min(executed_estimate(), first_undone));
     }
-    throw DeviceError(msg + " (the job stopped; that line was not executed: --resume sends it again, or fix it if it is wrong)",
+    throw DeviceError(msg + (first_undone == LONG_MAX
+                                 ? " (the job stopped; grbl skipped that dwell and drew on: --resume goes on from where it stopped)"
+                                 : " (the job stopped; that line was not executed: --resume sends it again, or fix it if it is wrong)"),
                       idx, code, false);
   }
 
