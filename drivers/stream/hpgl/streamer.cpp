@@ -94,7 +94,8 @@ int Streamer::query(char c) {
     }
     char* end = nullptr;
     long v = std::strtol(r.c_str(), &end, 10);
-    if (end != r.c_str() && (*end == '\0' || *end == ',') && v >= 0) return static_cast<int>(v);
+    // One number: a reply with a comma is a late answer to an output instruction (OA).
+    if (end != r.c_str() && *end == '\0' && v >= 0) return static_cast<int>(v);
     note(std::string("garbled answer to ESC.") + c + ": '" + r + "', asking again");
     std::this_thread::sleep_for(Millis(20));
     pump(Millis(20));
@@ -142,7 +143,9 @@ void Streamer::connect() {
 
 DevicePen Streamer::device_pen() {
   DevicePen p;
-  if (!o_.status_queries) return p;
+  // OA is answered once the plotter reaches it: not while it is not ready (its late
+  // answer would be taken for another's), nor without status queries.
+  if (!o_.status_queries || (query('O') & 16)) return p;
   incoming_.clear();
   t_.write(o_.newline ? "OA;\n" : "OA;");
   std::string r;
@@ -386,7 +389,7 @@ class Streamer::JobRun {
   [[noreturn]] void stop_on_error(size_t executed) {
     acknowledge_through(executed);
     s_.t_.write("\x1b.K");
-    drain(s_.buffer_);
+    wait_empty();
     long back = -1;  // the last job line of the items before the first suspect
     for (size_t i = clean_upto_; i-- > 0;)
       if ((back = session_.job_line(i)) >= 0) break;
@@ -397,19 +400,19 @@ class Streamer::JobRun {
     std::string r;
     const int code = s_.read_reply(r, Millis(5000)) ? std::atoi(r.c_str()) : -1;
     const long from = session_.result().last_acked + 1;
-    throw DeviceError("the plotter reports HP-GL error " + (code >= 0 ? std::to_string(code) + " (" + error_meaning(code) + ")" : std::string("(OE unanswered)")) +
-                          " in an instruction from line " + std::to_string(from + 1) + " on; the job stopped, its buffer cleared: "
-                          "--resume sends them again",
+    const std::string what = code >= 0 ? std::to_string(code) + " (" + error_meaning(code) + ")" : "(OE unanswered)";
+    throw DeviceError("the plotter reports HP-GL error " + what + " in an instruction from line " +
+                          std::to_string(from + 1) + " on; the job stopped, its buffer cleared: --resume sends them again",
                       from, code, false);
   }
 
-  // Waits until the plotter holds at most `bytes_left` bytes, as long as it keeps taking them.
-  void drain(int bytes_left) {
+  // Waits until the plotter's buffer is empty, as long as it keeps taking bytes.
+  void wait_empty() {
     int last = -1;
     auto since = clock::now();
     for (;;) {
       const int free = s_.query('B');
-      if (s_.buffer_ - free <= bytes_left || s_.buffer_ - free == 0) return;
+      if (free >= s_.buffer_) return;
       if (free != last) last = free, since = clock::now();
       if (clock::now() - since > o_.watchdog) return;
       std::this_thread::sleep_for(o_.poll_interval);
