@@ -37,6 +37,7 @@ struct Faults {
   long error_line = -1;      // line K is rejected (grbl error:N, HPGL error 1)
   int error_code = 20;
   long alarm_line = -1;      // line K raises an alarm (grbl ALARM:1, HPGL not-ready)
+  double not_ready_ms = 0;   // HPGL: the operator makes it ready again after this long (0: never)
   long reset_line = -1;      // the controller resets when line K arrives (grbl: its reset input; HPGL: IN)
 };
 

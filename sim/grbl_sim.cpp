@@ -140,6 +140,7 @@ void GrblSim::on_disconnect(double) {
 // the position is zeroed (the record assumes the operator re-zeroed the machine), and the
 // bootloader ignores bytes for a moment before grbl prints its banner.
 void GrblSim::boot(double t) {
+  interrupted_ = -2;  // power lost: nothing is answered
   halt(t);
   {
     std::lock_guard lk(m_);
@@ -525,7 +526,11 @@ void GrblSim::halt(double t) {
 // line, as finished blocks are recorded at their programmed ends.
 motion::Vec3 GrblSim::traced_position() const {
   motion::Vec3 p = motion_.position();
-  if (motion_.blocks().empty()) return p;
+  if (motion_.blocks().empty()) {  // at rest where the last move ended, as it was recorded
+    p[0] = rec_.x();
+    p[1] = rec_.y();
+    return p;
+  }
   const motion::Vec3& to = motion_.blocks().front().target;
   const double x0 = rec_.x(), y0 = rec_.y(), dx = to[0] - x0, dy = to[1] - y0, len2 = dx * dx + dy * dy;
   if (len2 <= 0) return p;
@@ -535,7 +540,20 @@ motion::Vec3 GrblSim::traced_position() const {
   return p;
 }
 
+// The line grbl's parser was executing, waiting for the planner to empty or have room or
+// dwelling (-2: none): on an abort those waits return and the line is still answered ok
+// (protocol.c protocol_buffer_synchronize, planner waits in motion_control.c mc_line and
+// mc_dwell's delay_sec all return on sys.abort; gc_execute_line then reports STATUS_OK).
+long GrblSim::line_under_way() const {
+  if (line_) return !line_->empty() && (*line_)[0] == '#' ? std::strtol(line_->c_str() + 1, nullptr, 10) : -2;
+  if (dwell_until_ > 0) return dwell_no_;
+  return -2;
+}
+
 void GrblSim::reset(double t) {
+  if (interrupted_ == -2) interrupted_ = line_under_way();
+  if (interrupted_ != -2) reply(interrupted_, "ok", t);  // before the reset's banner
+  interrupted_ = -2;
   const bool moving = motion_.moving() && !motion_.hold_complete();
   halt(t);
   hold_ = pause_m0_ = check_ = need_reset_ = false;
@@ -556,6 +574,8 @@ void GrblSim::reset(double t) {
 }
 
 void GrblSim::alarm(int code, double t) {
+  // A critical alarm waits for the host's reset before the interrupted line is answered.
+  interrupted_ = line_under_way();
   send("ALARM:" + std::to_string(code) + "\r\n", t);
   {
     std::lock_guard lk(m_);

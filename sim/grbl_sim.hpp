@@ -83,6 +83,7 @@ class GrblSim final : public SimDevice {
   void run_motion(double t);                            // the machine up to t, recording
   void halt(double t);
   void reset(double t);
+  long line_under_way() const;
   void boot(double t);
   void alarm(int code, double t);
   void status(double t);
@@ -115,6 +116,7 @@ class GrblSim final : public SimDevice {
   double now_ = 0;
   long lines_seen_ = 0, replies_ = 0;
   size_t boots_ = 0;
+  long interrupted_ = -2;  // the line an alarm cut short, answered at the reset (-2: none)
 };
 
 }  // namespace stipplot::sim

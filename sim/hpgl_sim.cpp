@@ -181,6 +181,7 @@ void HpglSim::start_next(double t) {
     ++stats_.errors;
   } else if (no == faults_.alarm_line) {
     not_ready_ = true;
+    if (faults_.not_ready_ms > 0) ready_at_ = t + faults_.not_ready_ms / 1000;
     std::lock_guard lk(m_);
     ++stats_.alarms;
     return;  // stops here, the instruction stays in the buffer
@@ -247,6 +248,11 @@ double HpglSim::execute(const std::string& mn, const std::vector<double>& nums, 
 }
 
 void HpglSim::advance(double t) {
+  if (not_ready_ && ready_at_ >= 0 && ready_at_ <= t) {  // the lever is down again: go on
+    not_ready_ = false;
+    ready_at_ = -1;
+    start_next(t);
+  }
   while (executing_ && busy_until_ <= t) {
     double te = busy_until_;
     now_ = te;
@@ -271,6 +277,9 @@ void HpglSim::advance(double t) {
   now_ = std::max(now_, t);
 }
 
-double HpglSim::next_event() const { return executing_ ? busy_until_ : kInf; }
+double HpglSim::next_event() const {
+  const double ready = not_ready_ && ready_at_ >= 0 ? ready_at_ : kInf;
+  return std::min(ready, executing_ ? busy_until_ : kInf);
+}
 
 }  // namespace stipplot::sim

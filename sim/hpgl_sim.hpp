@@ -60,6 +60,7 @@ class HpglSim final : public SimDevice {
   int esc_state_ = 0;          // 0 none, 1 got ESC, 2 got ESC '.', 3 in parameters
   char esc_cmd_ = 0;
   bool xoff_sent_ = false, not_ready_ = false;
+  double ready_at_ = -1;       // device time the not-ready fault ends (-1: not scheduled)
   int error_ = 0;
   bool absolute_ = true, pen_down_ = false, pending_pen_ = false;
   double x_ = 0, y_ = 0;

@@ -108,13 +108,15 @@ void Journal::append_record(const std::string& rec, bool force_sync) {
   }
 }
 
+// Every acknowledgement is written at once (a killed host loses none: the kernel has
+// them), and made durable every sync interval (a power loss may repeat that much).
 void Journal::ack(size_t line) {
   last_ = static_cast<long>(line);
-  if (now_ns() - last_sync_ns_ >= int64_t(sync_ms_) * 1000000) {
-    append_record("ack " + std::to_string(last_), false);
-    last_written_ = last_;
-  }
+  append_record("ack " + std::to_string(last_), false);
+  last_written_ = last_;
 }
+
+void Journal::device_cleared() { append_record("stopped", true); }
 
 void Journal::rollback_to(long line) {
   last_ = line;
@@ -191,6 +193,9 @@ JournalState Journal::load(const std::string& path) {
         throw UserError("journal " + path + " is damaged: line " + std::to_string(number) + " `" + body +
                         "` is not a line of the job (it has " + std::to_string(st.header.total_lines) + " lines)");
       st.last_acked = v;
+      st.stopped = false;
+    } else if (body == "stopped") {
+      st.stopped = true;
     } else if (body == "done") {
       st.complete = true;
     } else if (body != "session resume") {

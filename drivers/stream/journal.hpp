@@ -19,12 +19,16 @@ struct JournalState {
   long last_acked = -1;  // index of the last line the device acknowledged
   bool complete = false;
   bool torn = false;     // the last record was cut short (a crash mid-write): ignored
+  // The session ended with the device's buffers dropped (a reset, ESC.K): it runs no
+  // line after last_acked, so last_acked + 1 is exactly where to resume.
+  bool stopped = false;
 };
 
-// Append-only file JOB.journal: a JSON header line, then "ack N" records and "done",
-// each line ending in " *" and the CRC-32 of what precedes it (8 hex digits). Records
-// are fsync'd at most every `sync_interval_ms` while streaming (a host crash may
-// repeat that much), and always on sync() / close (device faults lose nothing).
+// Append-only file JOB.journal: a JSON header line, then "ack N", "stopped" and "done"
+// records, each line ending in " *" and the CRC-32 of what precedes it (8 hex digits).
+// Every record is written as it happens (a killed host loses none); they are fsync'd at
+// most every `sync_interval_ms` while streaming (a power loss may repeat that much),
+// and always on sync() / close (device faults lose nothing).
 // Reading it back, a last record cut short by a crash is detected and ignored; any
 // other record that fails its CRC, and any ack outside the job, make the journal
 // damaged: load() refuses it, naming the line.
@@ -40,6 +44,8 @@ class Journal {
   // Moves the acknowledged point back (after an abort: acked lines the device
   // discarded from its buffer).
   void rollback_to(long line);
+  // The device's buffers were dropped: it will run nothing past the last line acknowledged.
+  void device_cleared();
   void done();
   void sync();
   long last_acked() const { return last_; }

@@ -121,7 +121,7 @@ ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device) {
   if (in_place && job.dialect == Dialect::GCode) {
     // Pen already as it was: only the modal state needs restoring (as a full resume
     // from the settled point would restore it).
-    ResumePlan rp{next, {}};
+    ResumePlan rp{next, {}, {}};
     for (const auto& l : gcode_preamble(L, settle_resume_point(job, next)))
       if (l == "G21" || l == "G90" || l == "G20" || l == "G0" || l == "G1" || l.rfind("G1 F", 0) == 0 ||
           l.rfind("G0 F", 0) == 0)
@@ -129,7 +129,56 @@ ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device) {
     return rp;
   }
   next = settle_resume_point(job, next);
-  return {next, job.dialect == Dialect::GCode ? gcode_preamble(L, next) : hpgl_preamble(L, next)};
+  return {next, job.dialect == Dialect::GCode ? gcode_preamble(L, next) : hpgl_preamble(L, next), {}};
+}
+
+namespace {
+
+// The device's pen is where and as the job leaves it just before line k.
+bool device_before(const std::vector<JobLine>& L, size_t k, const DevicePen& d, double tol) {
+  const double x = k ? L[k - 1].x : 0, y = k ? L[k - 1].y : 0;
+  return pen_down_before(L, k) == d.down && std::abs(x - d.x) < tol && std::abs(y - d.y) < tol;
+}
+
+// The device's position lies on line k's move, short of its end (a move cut short by a
+// hold or a reset: the pen is up by now whatever the move was).
+bool device_within(const std::vector<JobLine>& L, size_t k, const DevicePen& d, double tol) {
+  if (!L[k].motion || k == 0) return false;
+  const double x0 = L[k - 1].x, y0 = L[k - 1].y, dx = L[k].x - x0, dy = L[k].y - y0, len2 = dx * dx + dy * dy;
+  if (len2 <= 0) return false;
+  const double u = std::clamp(((d.x - x0) * dx + (d.y - y0) * dy) / len2, 0.0, 1.0);
+  return u < 1 && std::hypot(x0 + u * dx - d.x, y0 + u * dy - d.y) < tol;
+}
+
+}  // namespace
+
+size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window) {
+  const auto& L = job.lines;
+  const size_t next = std::min(static_cast<size_t>(journal.last_acked + 1), L.size());
+  if (journal.stopped || !device.known || (window.ahead_bytes == 0 && window.back_moves == 0)) return next;
+  const double tol = job.dialect == Dialect::GCode ? 0.02 : 0.6;  // mm (a couple of steps); plotter units
+  size_t lo = next;
+  for (size_t moves = 0; lo > 0 && moves < window.back_moves; --lo) moves += L[lo - 1].motion;
+  size_t bytes = 0;
+  for (size_t k = lo; k <= L.size(); ++k) {
+    if (device_before(L, k, device, tol)) return k;
+    if (k == L.size()) break;
+    if (device_within(L, k, device, tol)) return k;
+    if (k >= next && (bytes += L[k].host_only ? 0 : L[k].text.size() + window.line_end_bytes) > window.ahead_bytes) break;
+  }
+  return lo;
+}
+
+ResumePlan resume_from_journal(const Job& job, const JournalState& journal, const DevicePen& device,
+                               const ResumeWindow& window) {
+  const size_t from = resume_point(job, journal, device, window);
+  ResumePlan rp = plan_resume(job, from, device);
+  const size_t after = static_cast<size_t>(journal.last_acked + 1);
+  if (from != after)
+    rp.note = "the journal ends at line " + std::to_string(after) + " but the device's pen is where line " +
+              std::to_string(from) + " left it" + (from > after ? " (it ran on after the host)" : "") +
+              ": resuming from line " + std::to_string(from + 1);
+  return rp;
 }
 
 }  // namespace stipplot::io

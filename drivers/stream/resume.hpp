@@ -4,12 +4,14 @@
 #include <vector>
 
 #include "drivers/job/job.hpp"
+#include "drivers/stream/journal.hpp"
 
 namespace stipplot::io {
 
 struct ResumePlan {
   size_t next = 0;                    // first job line to send after the preamble
   std::vector<std::string> preamble;  // lines to send first
+  std::string note;                   // why it is not the line after the journal's last, if it is not
 };
 
 // What the device reports about its pen, when it can (grbl: spindle speed and Z from a
@@ -27,5 +29,28 @@ struct DevicePen {
 // moved. Throws UserError for a job it cannot resume (G91, no pen-up command).
 // O(job size).
 ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device = {});
+
+// How far the device may be from the journal when the host did not stop it (killed,
+// link lost): lines it may have run that the journal never heard of (its receive buffer
+// holds at most `ahead_bytes`), and acknowledged moves it may never have run (its
+// planner, up to `back_moves`, when its buffers were lost since).
+struct ResumeWindow {
+  size_t ahead_bytes = 0;
+  size_t back_moves = 0;
+  size_t line_end_bytes = 1;  // what ends a line on the wire ('\n'; none between HPGL instructions)
+};
+
+// The first line to resume from. After a stop that dropped the device's buffers (the
+// journal says so), the line after the last acknowledged; otherwise the first line of
+// the window from which the device's pen, as it is now, continues: the pen where and as
+// the line before leaves it, or on the line's own path (begun, not finished). Earlier
+// rather than later when lines end alike: a move drawn twice, never one lost. With
+// nothing matching, the window's first line. O(window).
+size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window);
+
+// What `plot --resume` does once the device is connected and idle: resume_point, then
+// plan_resume from there.
+ResumePlan resume_from_journal(const Job& job, const JournalState& journal, const DevicePen& device = {},
+                               const ResumeWindow& window = {});
 
 }  // namespace stipplot::io

@@ -62,6 +62,10 @@ void StreamSession::rollback_to(long line) {
   res_.last_acked = line;
 }
 
+void StreamSession::device_cleared() {
+  if (journal_) journal_->device_cleared();
+}
+
 void StreamSession::sync_journal() {
   if (journal_) journal_->sync();
 }

@@ -22,6 +22,7 @@ class StreamSession {
   const std::string& text(size_t item) const;
   long job_line(size_t item) const;  // -1 for a preamble line
   const Job& job() const { return job_; }
+  size_t start() const { return start_; }  // the first job line sent after the preamble
 
   // The device has done job line `line`.
   void acknowledge(long line);
@@ -33,6 +34,8 @@ class StreamSession {
               long executed = kAckedAreExecuted);
   // Back to `line` as the last one done (the device discarded lines it had acknowledged).
   void rollback_to(long line);
+  // The device's buffers were dropped (reset, ESC.K): what is acknowledged is all it ran.
+  void device_cleared();
   // Makes the journal durable before an error leaves the session.
   void sync_journal();
   // The job ran to the end: the journal says so.

@@ -49,6 +49,16 @@ namespace {
 std::atomic<int> g_interrupts{0};
 extern "C" void on_plot_sigint(int) { g_interrupts.fetch_add(1); }
 
+// SIGTERM and SIGHUP stop the plot as an abort does (feed hold, the device's buffers
+// dropped, the journal exact), so that --resume continues without a line lost or
+// redrawn. The handler only stores to lock-free atomics.
+std::atomic<std::atomic<bool>*> g_abort_target{nullptr};
+std::atomic<int> g_stop_signal{0};
+extern "C" void on_plot_stop_signal(int sig) {
+  g_stop_signal.store(sig);
+  if (std::atomic<bool>* a = g_abort_target.load()) a->store(true);
+}
+
 struct PlotArgs {
   std::string input, profile, port, resume, job_out;
   PlanArgs plan;      // an SVG's planning
@@ -272,8 +282,17 @@ class PlotProgress {
  public:
   PlotProgress(const PlotArgs& A, size_t lines) : A_(A), bar_("plot", lines, !A.quiet && !A.json) {
     std::signal(SIGINT, on_plot_sigint);
+    g_abort_target.store(&controls.abort);
+    if (g_stop_signal.load()) controls.abort = true;
+    for (int sig : {SIGTERM, SIGHUP}) std::signal(sig, on_plot_stop_signal);
     if (A.control) g_control.start(controls);
   }
+  ~PlotProgress() {
+    for (int sig : {SIGTERM, SIGHUP}) std::signal(sig, SIG_DFL);
+    g_abort_target.store(nullptr);
+  }
+  PlotProgress(const PlotProgress&) = delete;
+  PlotProgress& operator=(const PlotProgress&) = delete;
   io::StreamControls controls;
 
   void operator()(const io::StreamProgress& p) {
@@ -370,6 +389,13 @@ io::PauseAnswer answer_pause(const PlotArgs& A, const io::PauseRequest& p) {
   return answer.empty() || (answer[0] != 'a' && answer[0] != 'A') ? io::PauseAnswer::go : io::PauseAnswer::stop;
 }
 
+// Where to go on, from the journal and the device as it is now (as the fault tests resume).
+io::ResumePlan resume_plan(const PlotArgs& A, const PlotJob& pj, const io::DevicePen& device, const io::ResumeWindow& w) {
+  io::ResumePlan rp = io::resume_from_journal(pj.job, pj.resume_state, device, w);
+  if (!rp.note.empty()) A.log(rp.note);
+  return rp;
+}
+
 // grbl: connect, compare its settings with the job, check mode if asked, resume where
 // the device's pen is, stream.
 // A write-only sink (file:PATH, a USB printer node): the job goes as it is, line by
@@ -435,8 +461,8 @@ io::StreamResult run_grbl(const PlotArgs& A, PlotJob& pj, io::Transport& port, i
     }
     A.log("check mode: all " + std::to_string(job.lines.size()) + " lines accepted");
   }
-  io::ResumePlan rp{pj.start(), {}};
-  if (pj.resuming) rp = io::plan_resume(job, pj.start(), st.device_pen(pj.pen_rule));
+  io::ResumePlan rp{pj.start(), {}, {}};
+  if (pj.resuming) rp = resume_plan(A, pj, st.device_pen(pj.pen_rule), st.resume_window());
   return st.stream(job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
 
@@ -447,8 +473,8 @@ io::StreamResult run_hpgl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
   o.on_pause = [&A](const io::PauseRequest& p) { return answer_pause(A, p); };
   io::hpgl::Streamer st(port, o);
   st.connect();
-  io::ResumePlan rp{pj.start(), {}};
-  if (pj.resuming) rp = io::plan_resume(pj.job, pj.start());
+  io::ResumePlan rp{pj.start(), {}, {}};
+  if (pj.resuming) rp = resume_plan(A, pj, st.device_pen(), st.resume_window());
   return st.stream(pj.job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
 
@@ -534,6 +560,10 @@ void plot(PlotArgs& A) {
   s["streamed_s"] = res.seconds;  // from connecting to the device's last move, as progress's elapsed_s
   s["seconds"] = seconds_since(t0);
   print_result(A, pj, res, link.sim != nullptr, s);
+  if (!res.completed && g_stop_signal.load())
+    throw UserError(std::string("stopped by ") + (g_stop_signal.load() == SIGHUP ? "SIGHUP" : "SIGTERM") +
+                    " at line " + std::to_string(res.last_acked + 1) +
+                    " (the device stopped and its buffer dropped, the journal saved); continue with: stipplot plot --resume " + pj.prepared.path);
   if (!res.completed)
     throw UserError("plot stopped at line " + std::to_string(res.last_acked + 1) + "; continue with: stipplot plot --resume " +
                     pj.prepared.path);

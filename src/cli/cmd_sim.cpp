@@ -12,6 +12,7 @@
 #include "sim/grbl_sim.hpp"
 #include "sim/hpgl_sim.hpp"
 #include "sim/record.hpp"
+#include "util/atomic_file.hpp"
 #include "util/error.hpp"
 #include "util/output_paths.hpp"
 
@@ -27,7 +28,7 @@ struct SimArgs {
   int rx_buffer = 128, buffer = 1024;
   bool xonxoff = false, soft_limits = false, homing = false, reset_on_open = false;
   double travel_x = 300, travel_y = 300;
-  std::string record_png, record_svg, page = "A4";
+  std::string record_png, record_svg, record_out, page = "A4";
   sim::Faults faults;
   bool once = false;
 };
@@ -52,13 +53,25 @@ std::unique_ptr<sim::SimDevice> make_simulator(const SimArgs& a) {
   return std::make_unique<sim::HpglSim>(c);
 }
 
+// One pen-down segment a line, "x0 y0 x1 y1 pen" in device units (mm, plotter units):
+// what a script compares with the job.
+void write_record_text(const std::vector<io::Segment>& rec, const std::string& path) {
+  std::string text;
+  char b[160];
+  for (const io::Segment& s : rec) {
+    std::snprintf(b, sizeof b, "%.9g %.9g %.9g %.9g %d\n", s.x0, s.y0, s.x1, s.y1, s.pen);
+    text += b;
+  }
+  write_file_atomic(path, text);
+}
+
 // Serves until Ctrl-C or SIGTERM (with --once, until the first client's job is drawn),
 // then writes what was drawn.
 void run_sim(const SimArgs& a) {
   require_positive("--speedup", a.speedup);
   require_nonnegative("--baud", a.baud);
   require_nonnegative("--latency-ms", a.latency_ms);
-  check_output_paths({}, {{"--record-png", a.record_png}, {"--record-svg", a.record_svg}});
+  check_output_paths({}, {{"--record-png", a.record_png}, {"--record-svg", a.record_svg}, {"--record-out", a.record_out}});
   PageSpec ps = parse_page(a.page);
   Page page;
   page.width_mm = ps.width_mm;
@@ -86,6 +99,7 @@ void run_sim(const SimArgs& a) {
   auto rec = dev->record();
   if (!a.record_png.empty()) sim::write_record_png(rec, page, upm, a.record_png, flip);
   if (!a.record_svg.empty()) sim::write_record_svg(rec, page, upm, a.record_svg, flip);
+  if (!a.record_out.empty()) write_record_text(rec, a.record_out);
   sim::SimStats s = dev->stats();
   std::fprintf(stderr, "simulator: %zu lines, %zu segments drawn, plot time %.1f s (device), starved %.2f%%\n", s.lines,
                rec.size(), s.plot_time(), 100 * s.starved_share());
@@ -114,6 +128,7 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--travel-y", a->travel_y, "grbl: Y travel in mm ($131)")->capture_default_str();
   cmd->add_option("--record-png", a->record_png, "On exit, render what was drawn to this PNG");
   cmd->add_option("--record-svg", a->record_svg, "On exit, write what was drawn as SVG");
+  cmd->add_option("--record-out", a->record_out, "On exit, write what was drawn as text: x0 y0 x1 y1 pen, a segment a line");
   cmd->add_option("--page", a->page, "Page for the record rendering")->capture_default_str();
   auto* g = "Fault injection";
   cmd->add_option("--drop-reply", a->faults.drop_reply, "Never answer line K (HPGL: the K-th query)")->group(g);

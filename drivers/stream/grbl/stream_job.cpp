@@ -1,6 +1,7 @@
 // The job loop of the grbl streamer: what one Streamer::stream() call does.
 #include <algorithm>
 #include <chrono>
+#include <climits>
 #include <cmath>
 #include <cstdio>
 #include <deque>
@@ -25,6 +26,16 @@ bool is_sync_line(const std::string& text) {
     }
   }
   return false;
+}
+
+// A line that only dwells (G4 P..): grbl skipping it changes no mark the lines behind it draw.
+bool only_dwell(const std::string& text) {
+  bool dwell = false;
+  for (const GcodeWord& w : gcode_words(text)) {
+    if (w.letter == 'G' && is_dwell(w)) dwell = true;
+    else if (w.letter != 'P' && w.letter != 'N') return false;
+  }
+  return dwell;
 }
 
 // "20", "0.6": the watchdog's time as a person reads it.
@@ -187,11 +198,14 @@ class Streamer::JobRun {
   }
 
   // The line answered was done; a job line (not the preamble) counts and is journalled.
-  void acknowledge(const LineWindow::Line& l) {
+  // A sync line's answer proves the moves before it ran, except after a reset: grbl ends
+  // the wait for its planner on the abort and still answers ok (protocol.c,
+  // protocol_buffer_synchronize returns on sys.abort; gc_execute_line reports STATUS_OK).
+  void acknowledge(const LineWindow::Line& l, bool proves_moves = true) {
     const long line = session_.job_line(l.item);
     if (line < 0) return;
     session_.acknowledge(line);
-    if (is_sync_line(session_.job().lines[static_cast<size_t>(line)].text)) {
+    if (proves_moves && is_sync_line(session_.job().lines[static_cast<size_t>(line)].text)) {
       // grbl answers a sync line once it has run, after every block before it: all
       // acknowledged moves are executed.
       last_sync_acked_ = line;
@@ -234,22 +248,49 @@ class Streamer::JobRun {
       if (idx >= 0) acknowledge(l);
       return;
     }
-    collect_answers_in_flight();
-    session_.sync_journal();
-    throw DeviceError(msg + " (the job stopped; that line was not executed)", idx, code, false);
+    // grbl drops the rejected line but runs the lines behind it in its receive buffer
+    // (protocol.c reports the error and reads on): the machine would draw on without
+    // it. Stop it at once and resume from the rejected line, which was not executed; a
+    // rejected dwell only changed the timing of what ran after it, which stays done.
+    const long first_undone = only_dwell(session_.text(l.item)) ? LONG_MAX : idx - 1;
+    try {
+      stop_machine();
+      session_.rollback_to(std::min(rollback_to_executed(true), first_undone));
+      session_.device_cleared();
+    } catch (const TransportError&) {
+      session_.rollback_to(std::min(executed_estimate(), first_undone));
+    }
+    throw DeviceError(msg + (first_undone == LONG_MAX
+                                 ? " (the job stopped; grbl skipped that dwell and drew on: --resume goes on from where it stopped)"
+                                 : " (the job stopped; that line was not executed: --resume sends it again, or fix it if it is wrong)"),
+                      idx, code, false);
   }
 
-  // Sending has stopped; the lines already in grbl's buffer still run: collect them.
-  void collect_answers_in_flight() {
-    auto end = clock::now() + Millis(10000);
-    while (!window_.empty() && clock::now() < end) {
-      std::string r;
-      if (!s_.reader_.read_line(r, Millis(100))) continue;
-      const Reply reply = classify_reply(r);
-      if (!reply.answers_a_line()) continue;
-      const LineWindow::Line l = window_.answered();
-      if (reply.kind == ReplyKind::Ok) acknowledge(l);
+  // Feed hold, wait until the machine stands, then a soft reset: grbl's buffers are
+  // dropped without the position loss (ALARM:3) a reset in motion causes.
+  void stop_machine() {
+    s_.t_.write("!");
+    status_after_hold(Millis(5000));
+    reset_counting_answers();
+  }
+
+  // Ctrl-X, counting the answers that arrive before grbl's banner: for lines it had taken
+  // before the reset (not proof that moves before them ran: see acknowledge).
+  void reset_counting_answers() {
+    s_.t_.write("\x18");
+    const auto end = clock::now() + o_.banner_timeout;
+    std::string line;
+    while (clock::now() < end) {
+      if (!s_.reader_.read_line(line, Millis(50))) continue;
+      const Reply r = classify_reply(line);
+      if (r.kind == ReplyKind::Banner) return;
+      if (r.answers_a_line() && !window_.empty()) {
+        const LineWindow::Line l = window_.answered();
+        if (r.kind == ReplyKind::Ok) acknowledge(l, false);
+      }
     }
+    throw TransportError(TransportError::Kind::Timeout, "grbl did not restart after a soft reset (Ctrl-X) within " +
+                                                            std::to_string(o_.banner_timeout.count()) + " ms");
   }
 
   [[noreturn]] void on_alarm(int code) {
@@ -257,11 +298,12 @@ class Streamer::JobRun {
     // Leave the port sane: reset flushes grbl's buffers and restarts its parser.
     bool reset_ok = true;
     try {
-      s_.soft_reset();
+      reset_counting_answers();
     } catch (const TransportError&) {
       reset_ok = false;
     }
     rollback_to_executed(reset_ok);
+    if (reset_ok) session_.device_cleared();
     throw DeviceError("grbl ALARM:" + std::to_string(code) + " near line " + std::to_string(idx + 1) + ": " +
                           alarm_meaning(code) + " The machine is locked: check it, unlock ($X) or re-home, then resume.",
                       idx, code, true);
@@ -269,6 +311,7 @@ class Streamer::JobRun {
 
   [[noreturn]] void on_restart() {
     const long done = rollback_to_executed(true);
+    session_.device_cleared();
     throw DeviceError("grbl restarted during the job (reset or power loss); its buffer was lost. Resume continues after line " +
                           std::to_string(done + 1),
                       done, 0, true);
@@ -318,6 +361,7 @@ class Streamer::JobRun {
     if (answer == PauseAnswer::stop_after) acknowledge(window_.answered());
     try {
       s_.soft_reset();
+      session_.device_cleared();
     } catch (const TransportError&) {
     }
     session_.sync_journal();
@@ -374,17 +418,19 @@ class Streamer::JobRun {
   long executed_at_position(double x, double y) const {
     constexpr double tol = 0.02;  // mm: a couple of steps
     const auto& L = session_.job().lines;
-    int in_planner = snapshot_.blocks_free >= 0 ? o_.planner_blocks - snapshot_.blocks_free : o_.planner_blocks;
-    const size_t first_kept = motion_acked_ - acked_motion_.size();
-    const size_t known = snapshot_.motion_acked > first_kept ? snapshot_.motion_acked - first_kept : 0;
-    in_planner = std::clamp(in_planner, 0, static_cast<int>(known));
-    for (size_t k = known - static_cast<size_t>(in_planner); k < acked_motion_.size(); ++k) {
+    // Every move not proved run by a sync line: grbl drops a block from its planner once
+    // the stepper has taken it, so the planner fill alone can call a move done that a
+    // hold and a reset cut short.
+    for (size_t k = 0; k < acked_motion_.size(); ++k) {
       const size_t line = static_cast<size_t>(acked_motion_[k]);
       const double x0 = line ? L[line - 1].x : 0, y0 = line ? L[line - 1].y : 0, x1 = L[line].x, y1 = L[line].y;
       const double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
       const double u = len2 > 0 ? std::clamp(((x - x0) * dx + (y - y0) * dy) / len2, 0.0, 1.0) : 0.0;
       if (std::hypot(x0 + u * dx - x, y0 + u * dy - y) > tol) continue;
-      return std::hypot(x1 - x, y1 - y) <= tol ? static_cast<long>(line) : static_cast<long>(line) - 1;
+      // Finished only at its end within MPos's rounding: a hold can stop a move one step
+      // short, and that move is then drawn again.
+      constexpr double at_end = 0.003;
+      return std::hypot(x1 - x, y1 - y) <= at_end ? static_cast<long>(line) : static_cast<long>(line) - 1;
     }
     return -2;
   }
@@ -398,7 +444,7 @@ class Streamer::JobRun {
       try {
         const Status st = s_.query_status(Millis(2000));
         const long at = executed_at_position(st.x, st.y);
-        if (at >= done) done = at;
+        if (at != -2) done = at;  // where the machine stands is what ran
       } catch (const TransportError&) {
       }
     }
@@ -407,18 +453,17 @@ class Streamer::JobRun {
   }
 
   StreamResult abort() {
-    s_.t_.write("!");
-    std::this_thread::sleep_for(Millis(200));
-    status_after_hold(Millis(2000));
-    s_.soft_reset();
+    stop_machine();
     const long done = rollback_to_executed(true);
+    session_.device_cleared();
     StreamResult res = session_.finish();
     s_.note("job aborted; the machine was reset. Resume continues after line " + std::to_string(done + 1));
     return res;
   }
 
-  // A status report taken once the hold has stopped the machine, with every answer before
-  // it counted, so the snapshot is what grbl holds now.
+  // A status report taken once the hold has stopped the machine (Hold:0, or Idle when
+  // there was nothing to hold), with every answer before it counted, so the snapshot is
+  // what grbl holds now.
   void status_after_hold(Millis timeout) {
     const auto end = clock::now() + timeout;
     bool asked = false;
@@ -435,7 +480,8 @@ class Streamer::JobRun {
         if (r.kind == ReplyKind::Ok) acknowledge(l);
       } else if (Status st; r.kind == ReplyKind::Status && parse_status(line, st)) {
         take_snapshot(st);
-        if (asked) return;
+        if (asked && st.state != "Run" && st.state != "Hold:1" && st.state != "Jog") return;
+        asked = false;  // still stopping: ask again once the line is quiet
       }
     }
   }

@@ -94,6 +94,7 @@ void Streamer::connect() {
   // An Arduino resets when the port opens and prints its banner; a board that did not
   // reset answers a status query instead; failing both, ask for a soft reset.
   bool alive = wait_for_banner(Millis(400), Millis(50));
+  restarted_ = alive;
   Status st;
   if (!alive) {
     try {
@@ -106,6 +107,7 @@ void Streamer::connect() {
   if (!alive) {
     try {
       soft_reset();
+      restarted_ = true;
     } catch (const TransportError& e) {
       if (e.kind() != TransportError::Kind::Timeout) throw;
       throw TransportError(TransportError::Kind::Timeout,
@@ -121,14 +123,42 @@ void Streamer::connect() {
     system_command("$X", Millis(3000));
     note("grbl was in ALARM; unlocked with $X");
   }
-  // Still finishing earlier work (after a reconnect): wait for it.
-  auto wait_end = clock::now() + std::chrono::minutes(30);
-  while ((st.state == "Run" || st.state.rfind("Hold", 0) == 0 || st.state == "Jog") && clock::now() < wait_end) {
-    if (st.state.rfind("Hold", 0) == 0) t_.write("~");
+  wait_until_done(st);
+  reader_.clear();
+}
+
+// grbl reports Idle while it dwells and while it waits for the rest of a line, so Idle
+// alone does not mean a dead host's lines have all run: wait for Idle with the planner and
+// the receive buffer empty (twice running; without buffer data, Idle for 1.5 s). A hold
+// keeps motion nobody is watching: stop it (a reset once the hold is complete keeps the
+// position) rather than let it run on. Bytes that stay in the receive buffer with the
+// machine idle are a line cut short (the host died writing it): a reset drops them.
+void Streamer::wait_until_done(Status st) {
+  const auto wait_end = clock::now() + std::chrono::minutes(30);
+  auto idle_since = clock::now(), unchanged_since = clock::now();
+  int empty_polls = 0;
+  Status was = st;
+  while (clock::now() < wait_end) {
+    const bool idle = st.state == "Idle";
+    const bool planner_empty = st.blocks_free < 0 || st.blocks_free >= o_.planner_blocks;
+    const bool known = st.bytes_free >= 0;
+    empty_polls = idle && planner_empty && known && st.bytes_free >= o_.rx_buffer ? empty_polls + 1 : 0;
+    if (!idle) idle_since = clock::now();
+    if (st.state != was.state || st.x != was.x || st.y != was.y || st.bytes_free != was.bytes_free) unchanged_since = clock::now();
+    if (empty_polls >= 2 || (!known && clock::now() - idle_since > Millis(1500))) return;
+    if (st.state == "Hold:0") {
+      soft_reset();
+      restarted_ = true;
+      note("grbl was left in a feed hold with motion buffered: reset it (the resume goes from where it stopped)");
+    } else if (idle && planner_empty && known && clock::now() - unchanged_since > Millis(2000)) {
+      soft_reset();  // idle: the position is kept, nothing buffered ran or will
+      note("grbl held " + std::to_string(o_.rx_buffer - st.bytes_free) +
+           " bytes of a line an earlier session did not finish: reset it to drop them");
+    }
+    was = st;
     std::this_thread::sleep_for(Millis(100));
     st = query_status(Millis(3000));
   }
-  reader_.clear();
 }
 
 std::string Streamer::system_command(const std::string& cmd, Millis timeout, std::vector<std::string>* lines) {

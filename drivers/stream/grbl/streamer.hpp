@@ -70,6 +70,14 @@ class Streamer {
   // the rule's threshold.
   DevicePen device_pen(const GcodePenRule& rule = {});
   void soft_reset();
+  // connect() found grbl freshly started or had to reset it: its buffers were lost, and
+  // the lines acknowledged last may not have run.
+  bool restarted() const { return restarted_; }
+  // How far grbl may be from the journal of a session that did not stop it: its receive
+  // buffer ahead, and, if its buffers were lost, its planner behind.
+  ResumeWindow resume_window() const {
+    return {restarted_ ? 0 : static_cast<size_t>(o_.rx_buffer), restarted_ ? static_cast<size_t>(o_.planner_blocks) : 0, 1};
+  }
   // Streams job lines [start, end) after `preamble`. Throws DeviceError / TransportError;
   // the journal is synced first, so `plot --resume` can continue.
   StreamResult stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
@@ -82,6 +90,8 @@ class Streamer {
   void note(const std::string& s);
   // Reads lines until grbl's start-up banner, at most `timeout`; false if none came.
   bool wait_for_banner(Millis timeout, Millis slice = Millis(100));
+  // Until what an earlier session left in grbl has run (connect).
+  void wait_until_done(Status st);
   // Sends a '$' command and returns its answer (ok or error:N), waiting at most
   // `timeout` for each line; the lines grbl prints before the answer go to `lines`.
   std::string system_command(const std::string& cmd, Millis timeout, std::vector<std::string>* lines = nullptr);
@@ -89,6 +99,7 @@ class Streamer {
   Options o_;
   LineReader reader_;
   Status last_status_;
+  bool restarted_ = false;
 };
 
 }  // namespace stipplot::io::grbl

@@ -95,7 +95,8 @@ int Streamer::query(char c) {
     }
     char* end = nullptr;
     long v = std::strtol(r.c_str(), &end, 10);
-    if (end != r.c_str() && (*end == '\0' || *end == ',') && v >= 0) return static_cast<int>(v);
+    // One number: a reply with a comma is a late answer to an output instruction (OA).
+    if (end != r.c_str() && *end == '\0' && v >= 0) return static_cast<int>(v);
     note(std::string("garbled answer to ESC.") + c + ": '" + r + "', asking again");
     std::this_thread::sleep_for(Millis(20));
     pump(Millis(20));
@@ -111,6 +112,13 @@ int Streamer::query(char c) {
 }
 
 void Streamer::connect() {
+  // Answers to a dead host's last queries may still wait on the port: not ours.
+  for (int i = 0; i < 20; ++i) {
+    const size_t before = incoming_.size();
+    pump(Millis(30));
+    if (incoming_.size() == before) break;
+  }
+  incoming_.clear();
   if (o_.handshake != HpglHandshake::buffer_query && !o_.status_queries) {
     buffer_ = o_.buffer_bytes;
     return;
@@ -137,6 +145,25 @@ void Streamer::connect() {
       if (last_free < buffer_) throw UserError("the plotter's buffer does not empty, even after ESC.K");
     }
   }
+}
+
+DevicePen Streamer::device_pen() {
+  DevicePen p;
+  // OA is answered once the plotter reaches it: not while it is not ready (its late
+  // answer would be taken for another's), nor without status queries.
+  if (!o_.status_queries || (query('O') & 16)) return p;
+  incoming_.clear();
+  t_.write(o_.newline ? "OA;\n" : "OA;");
+  std::string r;
+  double x = 0, y = 0;
+  int down = 0;
+  if (read_reply(r, o_.reply_timeout) && std::sscanf(r.c_str(), "%lf,%lf,%d", &x, &y, &down) == 3) {
+    p.known = true;
+    p.down = down != 0;
+    p.x = x;
+    p.y = y;
+  }
+  return p;
 }
 
 // One stream() call. HPGL has no per-line answer: a line counts as done once the
@@ -274,26 +301,32 @@ class Streamer::JobRun {
   // ESC.B: send at most the free space (less a reserve); what the buffer no longer holds
   // has been drawn. False if aborted.
   bool stream_polled() {
-    auto last_status = clock::now();
     for (;;) {
       if (abort_requested()) {
-        s_.t_.write("\x1b.K");  // abort graphics: drop the plotter's buffer
+        // Abort graphics: the plotter drops its buffer but finishes the instruction under
+        // way; the resume sees from where the pen is whether it did.
+        s_.t_.write("\x1b.K");
         return false;
       }
+      // The free space, then the status: a plotter flags an error as it takes the
+      // instruction, so a clean status proves every instruction done before it ran.
       const int free = s_.query('B');
+      const int status = o_.status_queries ? s_.query('O') : 0;
+      if (status & 16) {
+        wait_ready();
+        continue;
+      }
       check_watchdog(free);
       const size_t in_buffer = static_cast<size_t>(std::max(0, s_.buffer_ - free));
+      if (status & 32) stop_on_error(sent_ > in_buffer ? sent_ - in_buffer : 0);
       acknowledge_through(sent_ > in_buffer ? sent_ - in_buffer : 0);
+      clean_upto_ = acked_upto_;
       if (at_pause() && free >= s_.buffer_) {
         if (o_.status_queries) wait_drawn();
         pause_here();
         continue;
       }
       if (sent_ == data_.size() && free >= s_.buffer_) return true;
-      if (clock::now() - last_status > Millis(500)) {
-        check_status(false);
-        last_status = clock::now();
-      }
       const bool paused = controls_ && controls_->pause.load();
       const size_t room = free > o_.reserve ? static_cast<size_t>(free - o_.reserve) : 0;
       const size_t chunk = paused ? 0 : std::min(room, send_limit() - sent_);
@@ -354,6 +387,66 @@ class Streamer::JobRun {
     }
   }
 
+  // The plotter flagged an error in an instruction begun since the last clean status:
+  // it skips that instruction and draws on, so drop what it holds (ESC.K keeps only the
+  // instruction under way), let that finish, and go back to the last item done before
+  // the clean status. The suspect instructions after it (one or two at a sane polling
+  // rate) are sent again on resume: one of them was never drawn.
+  [[noreturn]] void stop_on_error(size_t executed) {
+    acknowledge_through(executed);
+    s_.t_.write("\x1b.K");
+    wait_empty();
+    long back = -1;  // the last job line of the items before the first suspect
+    for (size_t i = clean_upto_; i-- > 0;)
+      if ((back = session_.job_line(i)) >= 0) break;
+    if (back < 0) back = static_cast<long>(session_.start()) - 1;
+    session_.rollback_to(std::min(back, session_.result().last_acked));
+    session_.device_cleared();
+    s_.t_.write(o_.newline ? "OE;\n" : "OE;");
+    std::string r;
+    const int code = s_.read_reply(r, Millis(5000)) ? std::atoi(r.c_str()) : -1;
+    const long from = session_.result().last_acked + 1;
+    const std::string what = code >= 0 ? std::to_string(code) + " (" + error_meaning(code) + ")" : "(OE unanswered)";
+    throw DeviceError("the plotter reports HP-GL error " + what + " in an instruction from line " +
+                          std::to_string(from + 1) + " on; the job stopped, its buffer cleared: --resume sends them again",
+                      from, code, false);
+  }
+
+  // Waits until the plotter's buffer is empty, as long as it keeps taking bytes.
+  void wait_empty() {
+    int last = -1;
+    auto since = clock::now();
+    for (;;) {
+      const int free = s_.query('B');
+      if (free >= s_.buffer_) return;
+      if (free != last) last = free, since = clock::now();
+      if (clock::now() - since > o_.watchdog) return;
+      std::this_thread::sleep_for(o_.poll_interval);
+    }
+  }
+
+  // Not ready (paper lever up, view mode): the plotter holds its buffer. Wait for the
+  // operator up to not_ready_timeout; then drop the buffer (ESC.K), so that what the
+  // journal says was drawn is all that will be, and stop.
+  void wait_ready() {
+    const auto since = clock::now();
+    while (s_.query('O') & 16) {
+      if (clock::now() - since > o_.not_ready_timeout) {
+        const int free = s_.query('B');
+        const size_t in_buffer = static_cast<size_t>(std::max(0, s_.buffer_ - free));
+        acknowledge_through(sent_ > in_buffer ? sent_ - in_buffer : 0);
+        s_.t_.write("\x1b.K");
+        session_.device_cleared();
+        throw DeviceError("the plotter is not ready (paper lever raised or view mode?) and stayed so for " +
+                              std::to_string(o_.not_ready_timeout.count() / 1000) +
+                              " s; its buffer was cleared: resume when it is ready",
+                          session_.result().last_acked, 16, true);
+      }
+      std::this_thread::sleep_for(Millis(100));
+    }
+    last_change_ = clock::now();  // the operator's time is not a stuck plotter
+  }
+
   // ESC.O: waits out "not ready" (paper lever, view mode) up to not_ready_timeout; on an
   // error bit, or at the end, asks OE and stops on an error.
   void check_status(bool final) {
@@ -397,6 +490,7 @@ class Streamer::JobRun {
   std::vector<size_t> ends_;  // end offset of each item in data_
   std::vector<size_t> pauses_;  // items that are pauses, in order
   size_t sent_ = 0, acked_upto_ = 0, next_pause_ = 0;
+  size_t clean_upto_ = 0;  // items done before the last status without an error flag
   int last_free_ = -1;
   clock::time_point last_change_ = clock::now();
 };

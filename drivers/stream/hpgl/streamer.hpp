@@ -7,12 +7,14 @@
 //    rate, as a UART does, so XOFF arrives in time);
 //  - hardware (RTS/CTS in the serial driver) or none: we just write.
 // ESC.O status and OE error queries detect a plotter that is not ready or has an error.
+#include <algorithm>
 #include <functional>
 #include <string>
 
 #include "drivers/device/profile.hpp"
 #include "drivers/job/job.hpp"
 #include "drivers/stream/journal.hpp"
+#include "drivers/stream/resume.hpp"
 #include "drivers/stream/stream.hpp"
 #include "drivers/transport/transport.hpp"
 
@@ -54,6 +56,11 @@ class Streamer {
   StreamResult stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
                       const ProgressFn& progress = {}, StreamControls* controls = nullptr);
   int buffer_bytes() const { return buffer_; }
+  // Where the pen is and whether it is down (OA, answered once the buffer has run; the
+  // device's own units). Unknown without status queries or an answer.
+  DevicePen device_pen();
+  // How far a plotter left by a dead host may have drawn past the journal: its buffer.
+  ResumeWindow resume_window() const { return {static_cast<size_t>(std::max(buffer_, 0)), 0, o_.newline ? 1u : 0u}; }
 
  private:
   class JobRun;  // one stream() call
