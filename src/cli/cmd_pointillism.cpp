@@ -9,6 +9,7 @@
 #include "methods/palette.hpp"
 #include "methods/pointillism/pens.hpp"
 #include "methods/pointillism/pointillism.hpp"
+#include "methods/working_grid.hpp"
 #include "util/error.hpp"
 #include "util/units.hpp"
 
@@ -64,9 +65,14 @@ nlohmann::json regions_summary(const pointillism::Result& res) {
   return regions;
 }
 
-MethodResult draw(PointillismArgs& a, const MethodInput& in) {
+MethodResult draw(PointillismArgs& a, const MethodInput& given) {
+  // On a grid of one pen width a cell: the same page and pen give the same painting
+  // whatever the file's resolution (--radius in px and --blur are in its cells).
+  const PageTransform input_tf = given.placement.transform(given.image.width, given.image.height);
+  const WorkingGrid grid = make_working_grid(given.image, input_tf, given.placement.pen_width_mm);
+  const MethodInput in{grid.image, given.placement, given.costs, given.show_progress};
   if (!a.radius_length.in_px) {
-    a.p.radius_px = a.radius_length.value / in.placement.transform(in.image.width, in.image.height).mm_per_px();
+    a.p.radius_px = a.radius_length.value / grid.cell_mm;
     a.p.validate();
   }
   auto res = std::make_shared<pointillism::Result>(pointillism::paint(in.image, a.p));
@@ -94,7 +100,8 @@ MethodResult draw(PointillismArgs& a, const MethodInput& in) {
   out.screen_colours = !pens;
   out.images["--regions-png"] = [res] { return pointillism::region_image(*res); };
   if (a.fidelity) {
-    const double sigma = a.fidelity_sigma > 0 ? a.fidelity_sigma : 2 * a.p.radius_px;
+    // (in input pixels, as the measure sees the photo)
+    const double sigma = a.fidelity_sigma > 0 ? a.fidelity_sigma : 2 * a.p.radius_px * grid.cell_mm / input_tf.mm_per_px();
     out.measure = [sigma, pens](MethodRun& run) {
       const double de = mean_delta_e00_blurred(run.input, run.render_over_image(), sigma);
       run.summary["mean_de00"] = de;
@@ -107,7 +114,8 @@ MethodResult draw(PointillismArgs& a, const MethodInput& in) {
     };
   }
   out.counts = std::to_string(res->ebauche.size()) + " ebauche + " + std::to_string(res->strokes.size()) +
-               " stroke circles in " + layers_phrase(out.drawing.layers.size()) + " (" + pixel_size(in.image) + ")";
+               " stroke circles in " + layers_phrase(out.drawing.layers.size()) + " (" + pixel_size(given.image) + " on a " +
+               pixel_size(grid.image) + " grid)";
   if (a.max_pens > 0) report_pen_choice(choice, out);
   return out;
 }
@@ -129,7 +137,7 @@ void register_pointillism(CLI::App& app) {
       ->capture_default_str()->group(g);
   cmd->add_option("--weight,-W", args->p.weight, "W: weight of the pure colour's dot count (paper: 0.5, 1, 1.4)")
       ->capture_default_str()->group(g);
-  cmd->add_option("--radius,-r", args->radius, "Circle radius: input pixels (3, 3px; a bare number is pixels) or on paper (0.5mm, 0.05cm, ...)")
+  cmd->add_option("--radius,-r", args->radius, "Circle radius: grid cells of one pen width (3, 3px; a bare number is cells) or on paper (0.5mm, 0.05cm, ...)")
       ->capture_default_str()->group(g);
   cmd->add_option("--alpha-ebauche", args->p.alpha_ebauche, "Ebauche PDS: reject when d < alpha (r_i + r_j)")
       ->capture_default_str()->group(g);
@@ -139,7 +147,7 @@ void register_pointillism(CLI::App& app) {
   cmd->add_option("--grey-chroma", args->p.grey_chroma,
                   "Regions whose mean chroma is below this get no complement (their own colour instead)")
       ->capture_default_str()->group(g);
-  cmd->add_option("--blur", args->p.blur_sigma, "Gaussian blur sigma (px) before splitting regions")
+  cmd->add_option("--blur", args->p.blur_sigma, "Gaussian blur sigma (grid cells) before splitting regions")
       ->capture_default_str()->group(g);
   cmd->add_option("--ebauche-misses", args->p.ebauche_misses,
                   "Ebauche dart throwing stops after this many misses in a row (0 = maximal, no white left)")

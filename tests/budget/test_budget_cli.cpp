@@ -60,8 +60,7 @@ TEST_CASE("the same page and pen give the same marks whatever the input's resolu
   const std::string img = example("coffee.png");
   const std::string quarter = scaled_copy(t, img, 0.25, "q.png"), four = scaled_copy(t, img, 4, "x4.png");
   const std::string opts = " -o " + t.file("r.svg") + " --time 30min";
-  // (pointillism's --radius is in input pixels by default: not yet.)
-  for (const char* method : {"stipple", "sketch", "tree"}) {
+  for (const char* method : {"stipple", "sketch", "pointillism", "tree"}) {
     const auto base = run_json(std::string(method) + " " + img + opts);
     const double n = base["primitives"].get<double>();
     for (const std::string& other : {quarter, four}) {
