@@ -235,17 +235,21 @@ json wait_for_plot(httplib::Client& cl, const std::function<bool(const json&)>& 
   }
   return st;
 }
+// A photo, a four-pen cmyk preview and a plot on the simulator, run until its first pen change.
+json start_cmyk_plot(httplib::Client& cl) {
+  REQUIRE(cl.Post("/api/photo", read_all(std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png"), "image/png")->status == 200);
+  REQUIRE(cl.Post("/api/preview", R"({"method":"stipple","options":{"--method":"cmyk","-b":"40"}})", "application/json")->status == 200);
+  REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 200);
+  return wait_for_plot(cl, [](const json& j) { return j["status"] == "pen_change" || j["status"] == "done"; });
+}
 }  // namespace
 
 TEST_CASE("serve http: a plot asks for each pen by name, and an aborted one resumes from its journal", "[serve]") {
   test::TempDir dir;
   RunningStudio s(config(dir));
   auto cl = s.client();
-  REQUIRE(cl.Post("/api/photo", read_all(std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png"), "image/png")->status == 200);
-  REQUIRE(cl.Post("/api/preview", R"({"method":"stipple","options":{"--method":"cmyk","-b":"40"}})", "application/json")->status == 200);
-  REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 200);
+  json st = start_cmyk_plot(cl);
   CHECK(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 409);  // one plot per device
-  json st = wait_for_plot(cl, [](const json& j) { return j["status"] == "pen_change" || j["status"] == "done"; });
   REQUIRE(st["status"] == "pen_change");
   // Light inks first: yellow, cyan, magenta, black.
   CHECK(st["pen_change"].get<std::string>().find("pen 2 cyan") != std::string::npos);
@@ -285,10 +289,7 @@ TEST_CASE("serve http: a plot an earlier server left unfinished is offered for r
   {
     RunningStudio s(config(dir));
     auto cl = s.client();
-    REQUIRE(cl.Post("/api/photo", read_all(std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png"), "image/png")->status == 200);
-    REQUIRE(cl.Post("/api/preview", R"({"method":"stipple","options":{"--method":"cmyk","-b":"40"}})", "application/json")->status == 200);
-    REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 200);
-    json st = wait_for_plot(cl, [](const json& j) { return j["status"] == "pen_change" || j["status"] == "done"; });
+    json st = start_cmyk_plot(cl);
     REQUIRE(st["status"] == "pen_change");
     REQUIRE(cl.Post("/api/plot/abort", R"({"port":"sim"})", "application/json")->status == 200);
     st = wait_for_plot(cl, [](const json& j) { return j["status"] == "stopped" || j["status"] == "done"; });
