@@ -154,12 +154,16 @@ DiscPlace place_disc(Vec2 c, double rad, const Rect& exact) {
 // A filled disc that crosses the edge, as a clipped area and the part of its outline on
 // the sheet; false if nothing is left.
 bool disc_area(Vec2 c, double rad, Color fill, const Rect& r, double tol, std::vector<Area>& out,
-               std::vector<Polyline>& outline) {
+               std::vector<Polyline>& outline, bool with_rim) {
   Area a;
   a.fill = fill;
   a.rings.push_back({circle_points(c, rad, tol)});
   bool changed;
-  for (auto& run : clip_polyline(a.rings.front(), r, changed)) outline.push_back(std::move(run));
+  // The cut rim as a line in the layer's pen: only when the pen is the disc's colour
+  // (a disc in its own exact colour would get a rim of another ink).
+  std::vector<Polyline> rim = clip_polyline(a.rings.front(), r, changed);
+  if (with_rim)
+    for (auto& run : rim) outline.push_back(std::move(run));
   if (!clip_area(a, r, changed)) return false;
   out.push_back(std::move(a));
   return true;
@@ -193,7 +197,7 @@ ClipCounts clip_layer(Layer& l, const Rect& r, double tol) {
     if (at == DiscPlace::inside) dots.push_back(d);
     else if (at == DiscPlace::outside) ++n.dropped;
     else if (d.diameter <= l.pen.width_mm) r.contains(d.c) ? dots.push_back(d) : void(++n.dropped);  // a touch
-    else disc_area(d.c, d.diameter / 2, l.pen.color, r, tol, areas, lines) ? void(++n.cut) : void(++n.dropped);
+    else disc_area(d.c, d.diameter / 2, l.pen.color, r, tol, areas, lines, true) ? void(++n.cut) : void(++n.dropped);
   }
   std::vector<Circle> circles;
   for (const auto& c : l.circles) {
@@ -203,7 +207,7 @@ ClipCounts clip_layer(Layer& l, const Rect& r, double tol) {
     } else if (at == DiscPlace::outside) {
       ++n.dropped;
     } else if (c.filled) {
-      disc_area(c.c, c.r, c.fill, r, tol, areas, lines) ? void(++n.cut) : void(++n.dropped);
+      disc_area(c.c, c.r, c.fill, r, tol, areas, lines, c.fill == l.pen.color) ? void(++n.cut) : void(++n.dropped);
     } else {
       bool changed;
       auto runs = clip_polyline({circle_points(c.c, c.r, tol)}, r, changed);
