@@ -81,19 +81,14 @@ bool run_session(Streamer& st, const Job& job, const std::string& jpath, size_t 
   }
 }
 
-Cell grbl_cell(Fault fault, bool dots) {
-  const Job job = parse_gcode_job(testjob::gcode(marks(dots)));
-  sim::GrblSim sim(testjob::fast_sim<sim::GrblSimConfig>(faults_for(fault, false)));
-  test::TempDir t;
-  const std::string jpath = t.file("m.gcode.journal");
+// Plots the job on the simulated machine, resuming from the journal until it is done (at
+// most four sessions), and scores what the machine drew.
+template <class Streamer, class Options>
+Cell plot_until_done(const Job& job, sim::SimDevice& sim, const std::string& jpath, const Options& o) {
   Cell c;
   for (size_t session = 0; session < 4 && !c.completed; ++session) {
     PosixSerial port(sim.open_pty(), {});
-    grbl::Options o;
-    o.unlock = true;  // after an alarm: the operator has looked
-    o.lost_reply_after = Millis(300);
-    o.watchdog = Millis(3000);
-    grbl::Streamer st(port, o);
+    Streamer st(port, o);
     try {
       st.connect();
     } catch (const UserError&) {
@@ -101,7 +96,7 @@ Cell grbl_cell(Fault fault, bool dots) {
     }
     ResumePlan rp{0, {}, {}};
     if (session > 0) rp = resume_from_journal(job, Journal::load(jpath), st.device_pen(), st.resume_window());
-    c.completed = run_session<grbl::Streamer, grbl::Options>(st, job, jpath, session, rp);
+    c.completed = run_session<Streamer, Options>(st, job, jpath, session, rp);
     c.sessions = session + 1;
   }
   sim.wait_idle(20);
@@ -110,35 +105,28 @@ Cell grbl_cell(Fault fault, bool dots) {
   return c;
 }
 
+Cell grbl_cell(Fault fault, bool dots) {
+  const Job job = parse_gcode_job(testjob::gcode(marks(dots)));
+  sim::GrblSim sim(testjob::fast_sim<sim::GrblSimConfig>(faults_for(fault, false)));
+  test::TempDir t;
+  grbl::Options o;
+  o.unlock = true;  // after an alarm: the operator has looked
+  o.lost_reply_after = Millis(300);
+  o.watchdog = Millis(3000);
+  return plot_until_done<grbl::Streamer>(job, sim, t.file("m.gcode.journal"), o);
+}
+
 Cell hpgl_cell(Fault fault, bool dots) {
   const Job job = parse_hpgl_job(testjob::hpgl(marks(dots)));
   sim::HpglSim sim(testjob::fast_sim<sim::HpglSimConfig>(faults_for(fault, true)));
   test::TempDir t;
-  const std::string jpath = t.file("m.hpgl.journal");
-  Cell c;
-  for (size_t session = 0; session < 4 && !c.completed; ++session) {
-    PosixSerial port(sim.open_pty(), {});
-    hpgl::Options o;
-    o.watchdog = Millis(3000);
-    o.not_ready_timeout = Millis(2000);
-    // The default 20 ms between buffer polls, in the device's time: the simulator runs 40
-    // times faster (an error is placed within the instructions done between two polls).
-    o.poll_interval = Millis(1);
-    hpgl::Streamer st(port, o);
-    try {
-      st.connect();
-    } catch (const UserError&) {
-      continue;
-    }
-    ResumePlan rp{0, {}, {}};
-    if (session > 0) rp = resume_from_journal(job, Journal::load(jpath), st.device_pen(), st.resume_window());
-    c.completed = run_session<hpgl::Streamer, hpgl::Options>(st, job, jpath, session, rp);
-    c.sessions = session + 1;
-  }
-  sim.wait_idle(20);
-  const Cell s = score(job, sim.record());
-  c.lost = s.lost, c.doubled = s.doubled, c.stray = s.stray;
-  return c;
+  hpgl::Options o;
+  o.watchdog = Millis(3000);
+  o.not_ready_timeout = Millis(2000);
+  // The default 20 ms between buffer polls, in the device's time: the simulator runs 40
+  // times faster (an error is placed within the instructions done between two polls).
+  o.poll_interval = Millis(1);
+  return plot_until_done<hpgl::Streamer>(job, sim, t.file("m.hpgl.journal"), o);
 }
 
 void report_cell(const char* protocol, Fault f, bool dots, const Cell& c) {

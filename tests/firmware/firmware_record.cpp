@@ -389,6 +389,19 @@ Interpretation interpret(const FirmwareRecord& r, const PenRule& rule, const std
   return out;
 }
 
+namespace {
+// The first and the last block of a session that ran (nulls when none did).
+std::pair<const ExecutedBlock*, const ExecutedBlock*> executed_span(const SessionRecord& s) {
+  const ExecutedBlock *first = nullptr, *last = nullptr;
+  for (const ExecutedBlock& b : s.blocks)
+    if (b.run != ExecutedBlock::Run::NotRun) {
+      if (!first) first = &b;
+      last = &b;
+    }
+  return {first, last};
+}
+}  // namespace
+
 double firmware_plot_seconds(const FirmwareRecord& r, const PenRule& rule, int session) {
   const SessionRecord* s = nullptr;
   if (session >= 0) {
@@ -399,12 +412,7 @@ double firmware_plot_seconds(const FirmwareRecord& r, const PenRule& rule, int s
         if (b.run != ExecutedBlock::Run::NotRun) s = &c;
   }
   if (!s) return 0;
-  const ExecutedBlock *first = nullptr, *last = nullptr;
-  for (const ExecutedBlock& b : s->blocks)
-    if (b.run != ExecutedBlock::Run::NotRun) {
-      if (!first) first = &b;
-      last = &b;
-    }
+  const auto [first, last] = executed_span(*s);
   if (!first) return 0;
   const PlannedBlock& p = last->planned;
   bool pen_up = rule.kind == PenRule::Kind::ZAxis ? p.end.z >= rule.z_down_below_mm * r.settings.steps_per_mm[2]
@@ -420,12 +428,7 @@ double firmware_motion_seconds(const FirmwareRecord& r, int session) {
     for (const ExecutedBlock& b : c.blocks)
       if (b.run != ExecutedBlock::Run::NotRun && (session < 0 || c.index == session)) s = &c;
   if (!s) return 0;
-  const ExecutedBlock *first = nullptr, *last = nullptr;
-  for (const ExecutedBlock& b : s->blocks)
-    if (b.run != ExecutedBlock::Run::NotRun) {
-      if (!first) first = &b;
-      last = &b;
-    }
+  const auto [first, last] = executed_span(*s);
   if (!first || last->t_end < 0 || first->t_start < 0) return -1;
   return last->t_end - first->t_start;
 }
