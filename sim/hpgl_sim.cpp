@@ -10,7 +10,7 @@
 namespace stipplot::sim {
 
 namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNever = std::numeric_limits<double>::infinity();
 bool is_sep(char c) { return c == ';' || c == '\n' || c == '\r' || c == ' ' || c == '\t' || c == ','; }
 }  // namespace
 
@@ -278,8 +278,8 @@ void HpglSim::advance(double t) {
 }
 
 double HpglSim::next_event() const {
-  const double ready = not_ready_ && ready_at_ >= 0 ? ready_at_ : kInf;
-  return std::min(ready, executing_ ? busy_until_ : kInf);
+  const double ready = not_ready_ && ready_at_ >= 0 ? ready_at_ : kNever;
+  return std::min(ready, executing_ ? busy_until_ : kNever);
 }
 
 }  // namespace stipplot::sim

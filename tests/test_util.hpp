@@ -69,6 +69,11 @@ inline std::string run_cli_merged(const std::string& args, int& status) {
   return out;
 }
 
+// A file of the project's examples/ folder.
+inline std::string example(const std::string& name) { return std::string(STIPPLOT_SOURCE_DIR) + "/examples/" + name; }
+
+inline int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
+
 inline std::string read_file(const std::string& p) {
   std::ifstream f(p, std::ios::binary);
   std::stringstream ss;

@@ -12,7 +12,6 @@
 
 namespace {
 
-std::string example(const char* name) { return std::string(STIPPLOT_SOURCE_DIR) + "/examples/" + name; }
 
 nlohmann::json run_json(const std::string& args) {
   const auto r = test::run_cli(args + " --json");
@@ -39,7 +38,7 @@ std::string scaled_copy(const test::TempDir& t, const std::string& src, double s
 
 TEST_CASE("the planned plot fits the budget and uses it: 15 min, 1 h, 4 h on two profiles", "[budget][cli][slow]") {
   test::TempDir t;
-  const std::string img = example("coffee.png");
+  const std::string img = test::example("coffee.png");
   for (const char* profile : {"grbl-servo", "hp7475a-a4"}) {
     for (const char* time : {"15min", "1h", "4h"}) {
       const double budget = std::string(time) == "15min" ? 900 : std::string(time) == "1h" ? 3600 : 14400;
@@ -57,7 +56,7 @@ TEST_CASE("the planned plot fits the budget and uses it: 15 min, 1 h, 4 h on two
 
 TEST_CASE("the same page and pen give the same marks whatever the input's resolution", "[budget][cli][slow]") {
   test::TempDir t;
-  const std::string img = example("coffee.png");
+  const std::string img = test::example("coffee.png");
   const std::string quarter = scaled_copy(t, img, 0.25, "q.png"), four = scaled_copy(t, img, 4, "x4.png");
   const std::string opts = " -o " + t.file("r.svg") + " --time 30min";
   for (const char* method : {"stipple", "sketch", "pointillism", "tree"}) {
@@ -73,7 +72,7 @@ TEST_CASE("the same page and pen give the same marks whatever the input's resolu
 
 TEST_CASE("sketch and pointillism fit the budget and use it: 15 min and 1 h on two profiles", "[budget][cli][slow]") {
   test::TempDir t;
-  const std::string img = example("coffee.png");
+  const std::string img = test::example("coffee.png");
   for (const char* method : {"sketch", "pointillism"}) {
     for (const char* profile : {"grbl-servo", "hp7475a-a4"}) {
       for (const char* time : {"15min", "1h"}) {
@@ -93,7 +92,7 @@ TEST_CASE("sketch and pointillism fit the budget and use it: 15 min and 1 h on t
 
 TEST_CASE("every method's marks stay inside the image's rectangle with no margin", "[budget][cli]") {
   test::TempDir t;
-  const std::string img = example("coffee.png");
+  const std::string img = test::example("coffee.png");
   const stipplot::Image in = stipplot::load_image(img);
   // 60 x 60 mm, no margin: the image fills the width, its rectangle touches the page's edge.
   const double h = 60.0 * in.height / in.width, top = (60 - h) / 2, eps = 1e-6;
@@ -145,7 +144,7 @@ TEST_CASE("thinning keeps the share k of every kind of mark spread evenly over t
 
 TEST_CASE("tree fits the budget and uses it: wider spacing, not a thinned tree, on two profiles", "[budget][cli][slow]") {
   test::TempDir t;
-  const std::string img = example("coffee.png");
+  const std::string img = test::example("coffee.png");
   for (const char* profile : {"grbl-servo", "hp7475a-a4"}) {
     for (const char* time : {"10min", "1h"}) {
       const double budget = std::string(time) == "10min" ? 600 : 3600;

@@ -6,18 +6,16 @@
 #include "test_util.hpp"
 
 namespace {
-std::string sample(const char* name) { return std::string(STIPPLOT_SOURCE_DIR) + "/examples/" + name; }
-int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 }  // namespace
 
 TEST_CASE("stipple runs every method and writes SVG + preview", "[cli]") {
   test::TempDir t;
   for (const char* m : {"random", "gray", "negative", "binary", "color", "cmyk"}) {
-    auto r = test::run_cli("stipple " + sample("horse.png") + " -o " + t.file("o.svg") + " --preview " +
+    auto r = test::run_cli("stipple " + test::example("horse.png") + " -o " + t.file("o.svg") + " --preview " +
                            t.file("p.png") + " --method " + m + " -a 2 -b 8 --json");
     INFO(m << ": " << r.err);
     REQUIRE(r.exit_code == 0);
-    REQUIRE(count_lines(r.out) == 1);
+    REQUIRE(test::count_lines(r.out) == 1);
     auto j = nlohmann::json::parse(r.out);
     CHECK(j["method"] == (std::string(m) == "grey" ? "gray" : m));
     CHECK(j["primitives"].get<size_t>() > 100);
@@ -39,7 +37,7 @@ TEST_CASE("every command has --help", "[cli]") {
 
 TEST_CASE("same seed, same file, bit for bit", "[cli]") {
   test::TempDir t;
-  std::string base = "stipple " + sample("coffee.png") + " --method binary --seed 9 -q -o ";
+  std::string base = "stipple " + test::example("coffee.png") + " --method binary --seed 9 -q -o ";
   REQUIRE(test::run_cli(base + t.file("a.svg")).exit_code == 0);
   REQUIRE(test::run_cli(base + t.file("b.svg")).exit_code == 0);
   CHECK(test::read_file(t.file("a.svg")) == test::read_file(t.file("b.svg")));
@@ -49,7 +47,7 @@ TEST_CASE("bad input: one error line, non-zero exit, no output file", "[cli][bad
   test::TempDir t;
   { std::ofstream(t.file("empty.png")); }
   { std::ofstream(t.file("junk.jpg")) << "plain text, not a JPEG"; }
-  std::string png = test::read_file(sample("horse.png"));
+  std::string png = test::read_file(test::example("horse.png"));
   { std::ofstream(t.file("trunc.png"), std::ios::binary) << png.substr(0, png.size() / 3); }
   const std::string out = t.file("out.svg"), prev = t.file("out.png");
   struct Case {
@@ -60,40 +58,40 @@ TEST_CASE("bad input: one error line, non-zero exit, no output file", "[cli][bad
       {t.file("empty.png"), "empty"},
       {t.file("junk.jpg"), "not a readable image"},
       {t.file("trunc.png"), "truncated"},
-      {sample("horse.png") + " --max-pixels 100", "--max-pixels"},
-      {sample("horse.png") + " -a nan", "-a"},
-      {sample("horse.png") + " -b -3", "-b"},
-      {sample("horse.png") + " --a-w inf", "--a-w"},
-      {sample("horse.png") + " --method pointy", "pointy"},
-      {sample("horse.png") + " --page B9", "--page"},
-      {sample("horse.png") + " --margin 200", "margin"},
-      {sample("horse.png") + " --pen-width 0", "--pen-width"},
-      {sample("horse.png") + " --dot-size -1px", "--dot-size"},
+      {test::example("horse.png") + " --max-pixels 100", "--max-pixels"},
+      {test::example("horse.png") + " -a nan", "-a"},
+      {test::example("horse.png") + " -b -3", "-b"},
+      {test::example("horse.png") + " --a-w inf", "--a-w"},
+      {test::example("horse.png") + " --method pointy", "pointy"},
+      {test::example("horse.png") + " --page B9", "--page"},
+      {test::example("horse.png") + " --margin 200", "margin"},
+      {test::example("horse.png") + " --pen-width 0", "--pen-width"},
+      {test::example("horse.png") + " --dot-size -1px", "--dot-size"},
   };
   for (const auto& c : cases) {
     auto r = test::run_cli("stipple " + c.args + " -o " + out + " --preview " + prev);
     INFO(c.args << " -> " << r.err);
     CHECK(r.exit_code != 0);
     CHECK(r.exit_code < 64);  // a user error, not a crash or internal error
-    CHECK(count_lines(r.err) == 1);
+    CHECK(test::count_lines(r.err) == 1);
     CHECK(r.err.find(c.expect) != std::string::npos);
     CHECK(!std::filesystem::exists(out));
     CHECK(!std::filesystem::exists(prev));
   }
-  auto r = test::run_cli("stipple " + sample("horse.png") + " -o /no/such/dir/x.svg");
+  auto r = test::run_cli("stipple " + test::example("horse.png") + " -o /no/such/dir/x.svg");
   CHECK(r.exit_code != 0);
   CHECK(r.err.find("does not exist") != std::string::npos);
-  r = test::run_cli("stipple " + sample("horse.png") + " -o " + t.file("x.pdf"));
+  r = test::run_cli("stipple " + test::example("horse.png") + " -o " + t.file("x.pdf"));
   CHECK(r.exit_code != 0);
   CHECK(r.err.find(".pdf") != std::string::npos);
 }
 
 TEST_CASE("eval prints blurred SSIM and edge spill", "[cli][eval]") {
   test::TempDir t;
-  REQUIRE(test::run_cli("stipple " + sample("horse.png") + " -q -o " + t.file("h.svg") + " --preview " +
+  REQUIRE(test::run_cli("stipple " + test::example("horse.png") + " -q -o " + t.file("h.svg") + " --preview " +
                         t.file("h.png") + " --law linear -a 2px -b 8px --landscape")
               .exit_code == 0);
-  auto r = test::run_cli("eval " + sample("horse.png") + " " + t.file("h.png") + " --landscape --json");
+  auto r = test::run_cli("eval " + test::example("horse.png") + " " + t.file("h.png") + " --landscape --json");
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   auto j = nlohmann::json::parse(r.out);
@@ -101,7 +99,7 @@ TEST_CASE("eval prints blurred SSIM and edge spill", "[cli][eval]") {
   CHECK(j["edge_spill"].get<double>() >= 0);
   CHECK(j["dots"].get<size_t>() > 100);
   // without the same page options the shape doesn't match: a clear error
-  r = test::run_cli("eval " + sample("horse.png") + " " + t.file("h.png"));
+  r = test::run_cli("eval " + test::example("horse.png") + " " + t.file("h.png"));
   CHECK(r.exit_code != 0);
   CHECK(r.err.find("--page") != std::string::npos);
 }

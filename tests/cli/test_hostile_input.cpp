@@ -16,8 +16,6 @@
 
 namespace {
 namespace fs = std::filesystem;
-std::string sample(const char* name) { return std::string(STIPPLOT_SOURCE_DIR) + "/examples/" + name; }
-int count_lines(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 // Every file in `dir` but the ones named.
 std::vector<std::string> files_in(const std::string& dir) {
@@ -61,14 +59,14 @@ void run_cases(const std::vector<Case>& cases) {
   for (const Case& c : cases) {
     test::TempDir t;
     const std::string dir = t.path.string();
-    fs::copy_file(sample("horse.png"), t.file("in.png"));
+    fs::copy_file(test::example("horse.png"), t.file("in.png"));
     write(t.file("in.svg"), svg_with("<path d=\"M10 10 L90 90\" stroke=\"black\"/>"));
     write(t.file("far.svg"), svg_with("<circle cx=\"20\" cy=\"1.7e308\" r=\"10\" stroke=\"black\" fill=\"none\"/>"));
     write(t.file("e18.svg"), svg_with("<path d=\"M1e18 1e18 L2e18 2e18\" stroke=\"black\"/>"));
     write(t.file("bomb.svg"), use_bomb());
     write(t.file("nanmatrix.svg"),
           svg_with("<g transform=\"matrix(1e300 0 0 1e300 0 0) scale(1e300)\"><path d=\"M1 1 L2 2\" stroke=\"black\"/></g>"));
-    const std::string png = test::read_file(sample("horse.png"));
+    const std::string png = test::read_file(test::example("horse.png"));
     write(t.file("truncated.png"), png.substr(0, png.size() / 2));
     const std::string jpg = test::read_file(std::string(STIPPLOT_SHARED_DIR) + "/images/rocket.jpg");
     write(t.file("truncated.jpg"), jpg.substr(0, jpg.size() / 2));
@@ -77,7 +75,7 @@ void run_cases(const std::vector<Case>& cases) {
     auto r = test::run_cli(expand(c.args, dir));
     INFO(c.args << "\n -> exit " << r.exit_code << ": " << r.err);
     CHECK(r.exit_code == 1);
-    CHECK(count_lines(r.err) == 1);
+    CHECK(test::count_lines(r.err) == 1);
     CHECK(r.err.rfind("stipplot: error: ", 0) == 0);
     CHECK(r.err.find(expand(c.expect, dir)) != std::string::npos);
     CHECK(files_in(dir) == before);  // no output, no temporary
@@ -155,7 +153,7 @@ TEST_CASE("out-of-range numbers name the option, its unit and its range", "[cli]
 TEST_CASE("an unreadable input is not reported missing", "[cli][bad-input][image]") {
   if (::geteuid() == 0) return;  // root reads anything
   test::TempDir t;
-  fs::copy_file(sample("horse.png"), t.file("in.png"));
+  fs::copy_file(test::example("horse.png"), t.file("in.png"));
   fs::permissions(t.file("in.png"), fs::perms::none);
   auto r = test::run_cli("stipple " + t.file("in.png") + " -o " + t.file("o.svg"));
   CHECK(r.exit_code == 1);
@@ -171,7 +169,7 @@ TEST_CASE("a signal during the write leaves no temporary file", "[cli][outputs]"
     REQUIRE(pid >= 0);
     if (pid == 0) {
       ::setpgid(0, 0);
-      const std::string in = sample("horse.png"), out = t.file("o.gcode"), pv = t.file("p.png");
+      const std::string in = test::example("horse.png"), out = t.file("o.gcode"), pv = t.file("p.png");
       ::execl(bin.c_str(), bin.c_str(), "stipple", in.c_str(), "-o", out.c_str(), "--preview", pv.c_str(),
               "--preview-dpi", "600", "-q", static_cast<char*>(nullptr));
       ::_exit(127);

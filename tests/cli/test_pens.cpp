@@ -15,9 +15,8 @@
 using namespace stipplot;
 
 namespace {
-std::string example(const std::string& name) { return std::string(STIPPLOT_SOURCE_DIR) + "/examples/" + name; }
 std::string shared_image(const std::string& name) { return std::string(STIPPLOT_SHARED_DIR) + "/images/" + name; }
-const std::string kFineliners = example("pens/fineliner12.toml");
+const std::string kFineliners = test::example("pens/fineliner12.toml");
 
 const std::vector<std::string> kColourMethods = {"sketch", "pointillism", "stipple -m color", "stipple -m cmyk"};
 
@@ -47,12 +46,12 @@ size_t pen_count(const std::string& toml) {
 TEST_CASE("every example palette with every colour method draws each pen once, light to dark, or errors in one line", "[cli][palette]") {
   test::TempDir t;
   size_t palettes = 0;
-  for (const auto& e : std::filesystem::directory_iterator(example("pens"))) {
+  for (const auto& e : std::filesystem::directory_iterator(test::example("pens"))) {
     const std::string pal = e.path().string();
     const std::string toml = test::read_file(pal);
     ++palettes;
     for (const std::string& method : kColourMethods) {
-      auto r = test::run_cli(method + " " + example("horse.png") + " --pens " + pal + " -o " + t.file("o.svg") + " --json");
+      auto r = test::run_cli(method + " " + test::example("horse.png") + " --pens " + pal + " -o " + t.file("o.svg") + " --json");
       INFO(method << " --pens " << pal << ": " << r.err);
       if (method == "stipple -m cmyk" && e.path().filename() == "black.toml") {
         // Documented: cmyk needs a pen near each process ink; one black pen has none.
@@ -122,7 +121,7 @@ TEST_CASE("max pens: --max-pens N draws with N pens that beat the palette's firs
     CHECK(jc["max_pens"]["evaluations"].get<size_t>() == 4 * 12 - 6);  // greedy: n P - n (n - 1) / 2
   }
   // stipple -m color: the chosen pens, named in the result line.
-  auto s = test::run_cli("stipple -m color " + example("coffee.png") + " --pens " + kFineliners + " --max-pens 3 -o " + t.file("s.svg"));
+  auto s = test::run_cli("stipple -m color " + test::example("coffee.png") + " --pens " + kFineliners + " --max-pens 3 -o " + t.file("s.svg"));
   INFO(s.err);
   REQUIRE(s.exit_code == 0);
   CHECK(s.out.find("pens chosen: ") != std::string::npos);
@@ -133,7 +132,7 @@ TEST_CASE("max pens: --max-pens outside 1 .. the palette, or without one, is a o
   for (const std::string& bad : {"--pens " + kFineliners + " --max-pens 13", "--pens " + kFineliners + " --max-pens 0",
                                  "--pens " + kFineliners + " --max-pens -2", std::string("--max-pens 3")}) {
     for (const std::string& method : kColourMethods) {
-      auto r = test::run_cli(method + " " + example("horse.png") + " " + bad + " -o " + t.file("o.svg"));
+      auto r = test::run_cli(method + " " + test::example("horse.png") + " " + bad + " -o " + t.file("o.svg"));
       INFO(method << " " << bad << ": " << r.err);
       CHECK(r.exit_code != 0);
       CHECK(r.err.find("--max-pens") != std::string::npos);
@@ -222,7 +221,7 @@ TEST_CASE("cmyk inks go to the palette pens of their hue, where colour alone wou
   CHECK(names(map_layers_to_pens(d, fine, true, InkMatch::hue)) ==
         std::vector<std::string>{"yellow", "turquoise", "pink", "black"});
   // The RGB primaries' palette: by colour alone cyan's nearest is the grey pen; by hue, cyan.
-  const auto rgb = load_palette(example("pens/paper_rgb.toml")).pens;
+  const auto rgb = load_palette(test::example("pens/paper_rgb.toml")).pens;
   const auto by_colour = names(map_layers_to_pens(d, rgb, true, InkMatch::colour));
   CHECK(std::count(by_colour.begin(), by_colour.end(), "grey") == 1);
   CHECK(std::count(by_colour.begin(), by_colour.end(), "cyan") == 0);

@@ -8,7 +8,6 @@
 #include "test_util.hpp"
 
 namespace {
-std::string example(const char* name) { return std::string(STIPPLOT_SOURCE_DIR) + "/examples/" + name; }
 nlohmann::json last_json_line(const std::string& out) {
   auto end = out.find_last_not_of('\n');
   auto start = out.rfind('\n', end);
@@ -18,7 +17,7 @@ nlohmann::json last_json_line(const std::string& out) {
 
 TEST_CASE("a multi-pen foreign SVG plots on the simulated grbl, pen changes included", "[cli][plot][e2e]") {
   test::TempDir t;
-  auto r = test::run_cli("plot " + example("foreign.svg") + " --sim --sim-speedup 400 --json -q --job " +
+  auto r = test::run_cli("plot " + test::example("foreign.svg") + " --sim --sim-speedup 400 --json -q --job " +
                          t.file("foreign.gcode") + " --sim-out " + t.file("sim"));
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
@@ -40,20 +39,20 @@ TEST_CASE("plot plans an SVG as export does, from machine zero", "[cli][plot]") 
   for (const char* profile : {"grbl-z", "hp7475a-a4"}) {
     const std::string ext = std::string(profile) == "grbl-z" ? ".gcode" : ".hpgl";
     const std::string exported = t.file(std::string("export-") + profile + ext), job = t.file(std::string("plot-") + profile + ext);
-    REQUIRE(test::run_cli("export " + example("foreign.svg") + " --profile " + profile + " -q -o " + exported).exit_code == 0);
-    auto r = test::run_cli("plot " + example("foreign.svg") + " --profile " + profile + " --sim --sim-speedup 400 -q --job " + job);
+    REQUIRE(test::run_cli("export " + test::example("foreign.svg") + " --profile " + profile + " -q -o " + exported).exit_code == 0);
+    auto r = test::run_cli("plot " + test::example("foreign.svg") + " --profile " + profile + " --sim --sim-speedup 400 -q --job " + job);
     INFO(profile << ": " << r.err);
     REQUIRE(r.exit_code == 0);
     CHECK(slurp(job) == slurp(exported));
   }
-  auto bad = test::run_cli("plot " + example("foreign.svg") + " --sim -q --job " + t.file("job.hpgl"));
+  auto bad = test::run_cli("plot " + test::example("foreign.svg") + " --sim -q --job " + t.file("job.hpgl"));
   CHECK(bad.exit_code == 1);
   CHECK(bad.err.find("--job " + t.file("job.hpgl") + ": profile grbl-servo speaks G-code") != std::string::npos);
 }
 
 TEST_CASE("a stipple job plots on the simulated HPGL plotter", "[cli][plot][e2e]") {
   test::TempDir t;
-  REQUIRE(test::run_cli("stipple " + example("horse.png") + " -a 4 -b 20 -q --landscape --margin 12 --profile hp7475a-a4 -o " +
+  REQUIRE(test::run_cli("stipple " + test::example("horse.png") + " -a 4 -b 20 -q --landscape --margin 12 --profile hp7475a-a4 -o " +
                         t.file("h.hpgl"))
               .exit_code == 0);
   auto r = test::run_cli("plot " + t.file("h.hpgl") + " --profile hp7475a-a4 --sim --sim-speedup 400 --json -q");
@@ -73,7 +72,7 @@ TEST_CASE("the simulator's plotted time is within 5% of the planner's estimate",
   for (const Case& c : {Case{"grbl-servo", "gcode", "10"}, Case{"hp7475a-a4", "hpgl", "20"}}) {
     test::TempDir t;
     const std::string job = t.file(std::string("job.") + c.ext);
-    auto e = test::run_cli("export " + example("foreign.svg") + " --profile " + c.profile + " -o " + job + " --json");
+    auto e = test::run_cli("export " + test::example("foreign.svg") + " --profile " + c.profile + " -o " + job + " --json");
     REQUIRE(e.exit_code == 0);
     const double estimate = last_json_line(e.out)["plan"]["total"]["seconds"].get<double>();
     auto r = test::run_cli("plot " + job + " --profile " + c.profile + " --sim --sim-speedup " + c.speedup + " --json -q");

@@ -391,7 +391,7 @@ TEST_CASE("round trip: Drawing -> svg_writer -> svg_reader keeps coordinates and
 }
 
 TEST_CASE("planned SVG keeps plot order and hides the travel layer", "[svg][writers]") {
-  Plan plan = test::random_plan(4, 2, 30, 10);
+  Plan plan = fixtures::random_plan(4, 2, 30, 10);
   PlannedSvgOptions o;
   o.show_travel = true;
   std::string svg = planned_svg_string(plan, o);

@@ -11,12 +11,12 @@ using namespace stipplot;
 
 namespace {
 
-std::string mm_svg(const std::string& body) {
+std::string page_svg(const std::string& body) {
   return R"~(<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink" width="200mm" height="100mm" viewBox="0 0 200 100">)~" +
          body + "</svg>";
 }
 
-Drawing parse(const std::string& svg) { return parse_svg(svg, "test.svg"); }
+Drawing parse_text_svg(const std::string& svg) { return parse_svg(svg, "test.svg"); }
 
 struct Box {
   double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
@@ -37,7 +37,7 @@ Box ink(const Drawing& d) {
 
 TEST_CASE("text: Hershey glyphs at the position and size the SVG gives", "[svg][text]") {
   // 'H' of futural: x 4..18, capitals 21 units high; a font size is 32 units
-  Drawing d = parse(mm_svg(R"~(<text x="10" y="50" font-size="32" fill="black">H</text>)~"));
+  Drawing d = parse_text_svg(page_svg(R"~(<text x="10" y="50" font-size="32" fill="black">H</text>)~"));
   REQUIRE(d.layers.size() == 1);
   CHECK(d.layers[0].lines.size() == 3);
   const Box b = ink(d);
@@ -46,38 +46,38 @@ TEST_CASE("text: Hershey glyphs at the position and size the SVG gives", "[svg][
   CHECK(b.y0 == Approx(29));
   CHECK(b.y1 == Approx(50));
   // anchors shift each chunk by its width (HH: 2 x 22 units)
-  CHECK(ink(parse(mm_svg(R"~(<text x="100" y="50" font-size="32" text-anchor="middle">HH</text>)~"))).x0 == Approx(100 - 22 + 4));
-  CHECK(ink(parse(mm_svg(R"~(<text x="100" y="50" font-size="32" style="text-anchor:end">HH</text>)~"))).x1 == Approx(100 - 4));
+  CHECK(ink(parse_text_svg(page_svg(R"~(<text x="100" y="50" font-size="32" text-anchor="middle">HH</text>)~"))).x0 == Approx(100 - 22 + 4));
+  CHECK(ink(parse_text_svg(page_svg(R"~(<text x="100" y="50" font-size="32" style="text-anchor:end">HH</text>)~"))).x1 == Approx(100 - 4));
   // font-size in other units and em; a transform on the text
-  CHECK(ink(parse(mm_svg(R"~(<text x="0" y="50" font-size="24pt">H</text>)~"))).y0 == Approx(50 - 21.0 * 32 / 32));
-  Box t = ink(parse(mm_svg(R"~(<text x="10" y="50" font-size="32" transform="translate(5 -10) scale(0.5)">H</text>)~")));
+  CHECK(ink(parse_text_svg(page_svg(R"~(<text x="0" y="50" font-size="24pt">H</text>)~"))).y0 == Approx(50 - 21.0 * 32 / 32));
+  Box t = ink(parse_text_svg(page_svg(R"~(<text x="10" y="50" font-size="32" transform="translate(5 -10) scale(0.5)">H</text>)~")));
   CHECK(t.x0 == Approx(5 + 0.5 * 14));
   CHECK(t.y1 == Approx(-10 + 0.5 * 50));
 }
 
 TEST_CASE("text: tspans with their own positions, per-character dx, tref and whitespace", "[svg][text]") {
-  Drawing d = parse(mm_svg(R"~(<text x="10" y="20" font-size="32">H<tspan x="100" y="80" fill="#ff0000">H</tspan></text>)~"));
+  Drawing d = parse_text_svg(page_svg(R"~(<text x="10" y="20" font-size="32">H<tspan x="100" y="80" fill="#ff0000">H</tspan></text>)~"));
   REQUIRE(d.layers.size() == 2);  // black and red pens
   CHECK(ink(d).x1 == Approx(118));
   CHECK(ink(d).y1 == Approx(80));
   // dx shifts characters one by one; a run of spaces counts once
-  const Box a = ink(parse(mm_svg(R"~(<text x="0" y="50" font-size="32" dx="0 10">H   H</text>)~")));
+  const Box a = ink(parse_text_svg(page_svg(R"~(<text x="0" y="50" font-size="32" dx="0 10">H   H</text>)~")));
   CHECK(a.x1 == Approx(22 + 16 + 10 + 18));  // H, one space, H moved by 10
-  const Box p = ink(parse(mm_svg(R"~(<text xml:space="preserve" x="0" y="50" font-size="32">H   H</text>)~")));
+  const Box p = ink(parse_text_svg(page_svg(R"~(<text xml:space="preserve" x="0" y="50" font-size="32">H   H</text>)~")));
   CHECK(p.x1 == Approx(22 + 3 * 16 + 18));
-  Drawing r = parse(mm_svg(R"~(<defs><text id="src">H</text></defs><text x="10" y="50" font-size="32"><tref xlink:href="#src"/></text>)~"));
+  Drawing r = parse_text_svg(page_svg(R"~(<defs><text id="src">H</text></defs><text x="10" y="50" font-size="32"><tref xlink:href="#src"/></text>)~"));
   CHECK(ink(r).x0 == Approx(14));
   // characters the fonts lack are left out and counted, the others still drawn
   SvgReadReport report;
-  CHECK(parse_svg(mm_svg("<text x=\"10\" y=\"50\">\xce\xa9\xce\xa9 H</text>"), "t.svg", {}, &report).layers.at(0).lines.size() == 3);
+  CHECK(parse_svg(page_svg("<text x=\"10\" y=\"50\">\xce\xa9\xce\xa9 H</text>"), "t.svg", {}, &report).layers.at(0).lines.size() == 3);
   CHECK(report.missing_glyphs == 2);
   // invisible text draws nothing
-  CHECK(parse(mm_svg(R"~(<text x="10" y="50" fill="none">H</text><line x1="0" y1="0" x2="1" y2="0" stroke="black"/>)~"))
+  CHECK(parse_text_svg(page_svg(R"~(<text x="10" y="50" fill="none">H</text><line x1="0" y1="0" x2="1" y2="0" stroke="black"/>)~"))
             .layers.at(0).lines.size() == 1);
 }
 
 TEST_CASE("text on a path follows it, and flowed text wraps in its region", "[svg][text]") {
-  Drawing d = parse(mm_svg(R"~(<defs><path id="up" d="M 50 90 L 50 10"/></defs>
+  Drawing d = parse_text_svg(page_svg(R"~(<defs><path id="up" d="M 50 90 L 50 10"/></defs>
       <text font-size="32"><textPath xlink:href="#up" startOffset="10">H</textPath></text>)~"));
   // running up the page, the glyph is turned a quarter: its 21-unit height lies along -x
   const Box b = ink(d);
@@ -85,7 +85,7 @@ TEST_CASE("text on a path follows it, and flowed text wraps in its region", "[sv
   CHECK(b.x0 == Approx(29));
   CHECK(b.y1 == Approx(90 - 10 - 4));
   CHECK(b.y0 == Approx(90 - 10 - 18));
-  Drawing f = parse(mm_svg(R"~(<flowRoot font-size="32"><flowRegion><rect x="10" y="10" width="60" height="80"/></flowRegion>
+  Drawing f = parse_text_svg(page_svg(R"~(<flowRoot font-size="32"><flowRegion><rect x="10" y="10" width="60" height="80"/></flowRegion>
       <flowPara>HH HH</flowPara></flowRoot>)~"));
   const Box fb = ink(f);
   CHECK(fb.x1 < 70);  // the second word wrapped onto a second line
@@ -93,7 +93,7 @@ TEST_CASE("text on a path follows it, and flowed text wraps in its region", "[sv
 }
 
 TEST_CASE("filled shapes become areas with their fill rule, on the fill colour's pen", "[svg][fill]") {
-  Drawing d = parse(mm_svg(R"~(
+  Drawing d = parse_text_svg(page_svg(R"~(
       <path d="M0 0 H10 V10 H0 Z M3 3 V7 H7 V3 Z" fill="#0000ff" fill-rule="evenodd"/>
       <rect x="20" y="0" width="10" height="10" fill="red" stroke="black"/>
       <rect x="40" y="0" width="10" height="10" fill="url(#gradient)"/>
@@ -127,7 +127,7 @@ TEST_CASE("filled shapes become areas with their fill rule, on the fill colour's
 }
 
 TEST_CASE("a circle filled and stroked in two colours goes to two pens", "[svg][fill]") {
-  Drawing d = parse(mm_svg(R"~(<circle cx="50" cy="50" r="10" fill="red" stroke="black"/>
+  Drawing d = parse_text_svg(page_svg(R"~(<circle cx="50" cy="50" r="10" fill="red" stroke="black"/>
       <circle cx="80" cy="50" r="10" fill="black" stroke="black"/>)~"));
   REQUIRE(d.layers.size() == 2);
   size_t filled = 0, outlines = 0;

@@ -9,7 +9,7 @@
 #include "plan/plan.hpp"
 #include "util/rng.hpp"
 
-namespace stipplot::test {
+namespace stipplot::fixtures {
 
 inline Plan plan_in_given_order(const Drawing& d) {
   Plan p;
@@ -54,4 +54,4 @@ inline Plan random_plan(uint64_t seed, int layers, int dots, int lines, double w
   return plan_in_given_order(d);
 }
 
-}  // namespace stipplot::test
+}  // namespace stipplot::fixtures

@@ -12,7 +12,6 @@
 namespace fs = std::filesystem;
 
 namespace {
-std::string run(const std::string& args, int& status) { return test::run_cli_merged(args, status); }
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -35,7 +34,7 @@ TEST_CASE("export writes a foreign SVG for every shipped profile", "[cli][export
     INFO("profile " << prof);
     bool hpgl = std::string(prof).rfind("grbl", 0) != 0;
     fs::path out = dir / (std::string(prof) + (hpgl ? ".hpgl" : ".gcode"));
-    std::string o = run("export " + kForeign + " --profile " + prof + " -o " + out.string() + " --json", status);
+    std::string o = test::run_cli_merged("export " + kForeign + " --profile " + prof + " -o " + out.string() + " --json", status);
     INFO(o);
     REQUIRE(status == 0);
     auto j = nlohmann::json::parse(o);
@@ -53,7 +52,7 @@ TEST_CASE("export writes a foreign SVG for every shipped profile", "[cli][export
   }
   // the planned order as SVG, with the hidden travel layer
   fs::path svg = dir / "planned.svg";
-  run("export " + kForeign + " -o " + svg.string() + " --show-travel -q", status);
+  test::run_cli_merged("export " + kForeign + " -o " + svg.string() + " --show-travel -q", status);
   CHECK(status == 0);
   CHECK(slurp(svg).find("display:none") != std::string::npos);
   fs::remove_all(dir);
@@ -65,7 +64,7 @@ TEST_CASE("method commands write G-code and HPGL directly", "[cli][export]") {
   int status = 0;
   fs::path g = dir / "c.gcode";
   // The paper's law: every dot one pen touch (the tone law's larger dots are fills).
-  std::string o = run("stipple " + img + " -o " + g.string() + " --law linear --optimize-seconds 0.2 --json", status);
+  std::string o = test::run_cli_merged("stipple " + img + " -o " + g.string() + " --law linear --optimize-seconds 0.2 --json", status);
   INFO(o);
   REQUIRE(status == 0);
   auto j = nlohmann::json::parse(o);
@@ -78,7 +77,7 @@ TEST_CASE("method commands write G-code and HPGL directly", "[cli][export]") {
   CHECK(downs == dots);  // one pen touch per dot
 
   fs::path h = dir / "c.hpgl";
-  run("stipple " + img + " -o " + h.string() + " --profile hp7475a-a3 --landscape --page A3 --margin 20 -q", status);
+  test::run_cli_merged("stipple " + img + " -o " + h.string() + " --profile hp7475a-a3 --landscape --page A3 --margin 20 -q", status);
   CHECK(status == 0);
   CHECK(slurp(h).rfind("IN;", 0) == 0);
   fs::remove_all(dir);
@@ -88,7 +87,7 @@ TEST_CASE("export refuses mismatched profiles, bad SVG and pages that do not fit
   fs::path dir = scratch();
   int status = 0;
   fs::path out = dir / "x.hpgl";
-  std::string o = run("export " + kForeign + " --profile grbl-servo -o " + out.string(), status);
+  std::string o = test::run_cli_merged("export " + kForeign + " --profile grbl-servo -o " + out.string(), status);
   CHECK(status != 0);
   CHECK(o.find("speaks G-code") != std::string::npos);
   CHECK_FALSE(fs::exists(out));
@@ -96,7 +95,7 @@ TEST_CASE("export refuses mismatched profiles, bad SVG and pages that do not fit
   fs::path bad = dir / "bad.svg";
   std::ofstream(bad) << "<svg xmlns=\"http://www.w3.org/2000/svg\">\n<path d=\"M 0 0 L 1\"/>\n</svg>\n";
   fs::path g = dir / "x.gcode";
-  o = run("export " + bad.string() + " -o " + g.string(), status);
+  o = test::run_cli_merged("export " + bad.string() + " -o " + g.string(), status);
   CHECK(status != 0);
   CHECK(o.find("line 2: <path>") != std::string::npos);
   CHECK_FALSE(fs::exists(g));
@@ -106,13 +105,13 @@ TEST_CASE("export refuses mismatched profiles, bad SVG and pages that do not fit
   std::ofstream(portrait) << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"210mm\" height=\"297mm\" "
                              "viewBox=\"0 0 210 297\"><line x1=\"20\" y1=\"20\" x2=\"20\" y2=\"280\" stroke=\"black\"/></svg>";
   fs::path h = dir / "p.hpgl";
-  o = run("export " + portrait.string() + " --profile hp7475a-a4 --no-rotate -o " + h.string(), status);
+  o = test::run_cli_merged("export " + portrait.string() + " --profile hp7475a-a4 --no-rotate -o " + h.string(), status);
   CHECK(status != 0);
   CHECK(o.find("outside the travel of profile hp7475a-a4") != std::string::npos);
   CHECK(o.find("--fit") != std::string::npos);  // the advice names an option export has
   CHECK_FALSE(fs::exists(h));
   // turned to the sheet's orientation, as the AxiDraw tools do, it fits, and says so
-  o = run("export " + portrait.string() + " --profile hp7475a-a4 -o " + h.string(), status);
+  o = test::run_cli_merged("export " + portrait.string() + " --profile hp7475a-a4 -o " + h.string(), status);
   CHECK(status == 0);
   CHECK(o.find("rotated 90° to the sheet's orientation") != std::string::npos);
   CHECK(fs::exists(h));

@@ -8,12 +8,11 @@
 #include <string>
 
 namespace {
-std::string run(const std::string& args, int& status) { return test::run_cli_merged(args, status); }
 }  // namespace
 
 TEST_CASE("stipplot profiles lists every shipped profile, name first", "[profiles][cli]") {
   int status = 0;
-  std::string out = run("profiles", status);
+  std::string out = test::run_cli_merged("profiles", status);
   CHECK(status == 0);
   std::istringstream in(out);
   std::string line;
@@ -21,10 +20,10 @@ TEST_CASE("stipplot profiles lists every shipped profile, name first", "[profile
   while (std::getline(in, line)) names.push_back(line.substr(0, line.find(' ')));
   CHECK(names == std::vector<std::string>{"grbl-laser", "grbl-servo", "grbl-z", "hp7475a-a3", "hp7475a-a4",
                                           "roland-dxy1300"});
-  out = run("profiles --json", status);
+  out = test::run_cli_merged("profiles --json", status);
   CHECK(status == 0);
   CHECK(out.find("\"name\":\"hp7475a-a4\"") != std::string::npos);
-  out = run("profiles --show no-such-device", status);
+  out = test::run_cli_merged("profiles --show no-such-device", status);
   CHECK(status != 0);
   CHECK(out.find("no such profile") != std::string::npos);
 }

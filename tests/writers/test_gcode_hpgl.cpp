@@ -270,7 +270,7 @@ TEST_CASE("G-code for every grbl profile draws each planned segment exactly once
   for (const char* name : {"grbl-servo", "grbl-z", "grbl-laser"}) {
     INFO("profile " << name);
     DeviceProfile prof = find_profile(name);
-    Plan plan = test::random_plan(7, 3, 300, 60);
+    Plan plan = fixtures::random_plan(7, 3, 300, 60);
     auto lines = gcode_lines(plan, prof);
     GcodeRun run = interpret_gcode(lines, prof);
     auto want = expected_segments(plan, prof);
@@ -283,7 +283,7 @@ TEST_CASE("G-code for every grbl profile draws each planned segment exactly once
 
 TEST_CASE("G-code header sets units, absolute mode and feed before the first move", "[writers][gcode]") {
   DeviceProfile prof = find_profile("grbl-servo");
-  Plan plan = test::random_plan(3, 1, 2, 2);
+  Plan plan = fixtures::random_plan(3, 1, 2, 2);
   auto lines = gcode_lines(plan, prof);
   size_t g21 = 0, g90 = 0, first_move = 0, first_g1 = 0;
   for (size_t i = 0; i < lines.size(); ++i) {
@@ -337,7 +337,7 @@ TEST_CASE("machine transform applies origin, axis signs and offsets", "[writers]
 
 TEST_CASE("a plan outside the travel is refused naming the point, and no file is left", "[writers]") {
   DeviceProfile prof = find_profile("grbl-servo");
-  Plan plan = test::random_plan(1, 1, 5, 0, 500, 297);
+  Plan plan = fixtures::random_plan(1, 1, 5, 0, 500, 297);
   plan.layers[0].strokes.push_back({{{100, 50}, {445.5, 60}}});
   const fs::path out = scratch("oob_test.gcode");
   fs::remove(out);
@@ -351,7 +351,7 @@ TEST_CASE("a plan outside the travel is refused naming the point, and no file is
   }
   CHECK_FALSE(fs::exists(out));
   // a point off the page is refused even where the machine could reach it
-  Plan off = test::random_plan(1, 1, 5, 0);
+  Plan off = fixtures::random_plan(1, 1, 5, 0);
   off.layers[0].strokes.push_back({{{-1, 50}}});
   try {
     gcode_lines(off, prof);
@@ -361,7 +361,7 @@ TEST_CASE("a plan outside the travel is refused naming the point, and no file is
   }
   // HPGL too: an A4 portrait page does not fit the 7475A's A4-landscape area.
   DeviceProfile hp = find_profile("hp7475a-a4");
-  CHECK_THROWS_AS(hpgl_commands(test::random_plan(2, 1, 50, 5), hp), UserError);
+  CHECK_THROWS_AS(hpgl_commands(fixtures::random_plan(2, 1, 50, 5), hp), UserError);
   // and the wrong protocol is refused
   CHECK_THROWS_AS(hpgl_commands(plan, prof), UserError);
   CHECK_THROWS_AS(gcode_lines(plan, hp), UserError);
@@ -373,7 +373,7 @@ TEST_CASE("HPGL for every HPGL profile draws each planned segment once with the 
     DeviceProfile prof = find_profile(name);
     // landscape pages that fit each device's area (the A4 one is 276 x 193 mm)
     bool small = std::string(name) == "hp7475a-a4";
-    Plan plan = test::random_plan(11, 4, 200, 40, small ? 297 : 420, small ? 210 : 297, 15);
+    Plan plan = fixtures::random_plan(11, 4, 200, 40, small ? 297 : 420, small ? 210 : 297, 15);
     // one long stroke so chunking is exercised
     Stroke longs;
     for (int i = 0; i < 200; ++i) longs.pts.push_back({30 + i * 0.5, 50 + 10 * std::sin(i * 0.1)});
@@ -402,7 +402,7 @@ TEST_CASE("HPGL y axis points up from the lower-left corner", "[writers][hpgl]")
 
 TEST_CASE("HPGL plans a reload pause when the plan has more pens than the carousel", "[writers][hpgl]") {
   DeviceProfile prof = find_profile("hp7475a-a3");
-  Plan plan = test::random_plan(5, 8, 3, 0, 420, 297, 15);
+  Plan plan = fixtures::random_plan(5, 8, 3, 0, 420, 297, 15);
   plan.layers[6].pen.name = "red";
   plan.layers[6].pen.color = {255, 0, 0};
   const auto cmds = hpgl_commands(plan, prof);
@@ -445,7 +445,7 @@ TEST_CASE("layers on one pen number share its slot, and pens beyond the carousel
 }
 
 TEST_CASE("writers write files atomically with the profile's line ending", "[writers]") {
-  Plan plan = test::random_plan(9, 2, 20, 5, 420, 297, 15);
+  Plan plan = fixtures::random_plan(9, 2, 20, 5, 420, 297, 15);
   DeviceProfile hp = find_profile("hp7475a-a3");  // newline = false
   const fs::path h = scratch("writer_test.hpgl");
   write_hpgl_file(plan, hp, h.string());
