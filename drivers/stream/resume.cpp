@@ -147,7 +147,9 @@ bool device_within(const std::vector<JobLine>& L, size_t k, const DevicePen& d, 
   const double x0 = L[k - 1].x, y0 = L[k - 1].y, dx = L[k].x - x0, dy = L[k].y - y0, len2 = dx * dx + dy * dy;
   if (len2 <= 0) return false;
   const double u = std::clamp(((d.x - x0) * dx + (d.y - y0) * dy) / len2, 0.0, 1.0);
-  return u < 1 && std::hypot(x0 + u * dx - d.x, y0 + u * dy - d.y) < tol;
+  // Begun means past its start: a pen standing at the start is device_before's to judge,
+  // with the pen state (a pen lifted at the start of a stroke has not begun it).
+  return u < 1 && u * std::sqrt(len2) > tol && std::hypot(x0 + u * dx - d.x, y0 + u * dy - d.y) < tol;
 }
 
 }  // namespace

@@ -246,6 +246,26 @@ TEST_CASE("journal: a damaged record, an ack beyond the job or a torn number is 
   std::filesystem::remove(path);
 }
 
+// Found on the real grbl firmware: a link dropped after the board had travelled, pen up,
+// back to a point a stroke of the journal's window starts from. The pen standing at the
+// stroke's start, lifted, has not begun it: the resume is where the board stopped, not
+// the stroke drawn again.
+TEST_CASE("resume point: a lifted pen at a stroke's start has not begun it", "[drivers][journal]") {
+  // lines: 0 G21, 1 G90, 2 M5, 3 G0 X10 Y10, 4 M3 S30, 5 G1 X20 Y10 F600, 6 G1 X20 Y20,
+  //        7 M5, 8 G0 X10 Y10, 9 M3 S30, 10 G1 X0 Y10, 11 M5
+  Job job = parse_gcode_job("G21\nG90\nM5\nG0 X10 Y10\nM3 S30\nG1 X20 Y10 F600\nG1 X20 Y20\nM5\nG0 X10 Y10\nM3 S30\n"
+                            "G1 X0 Y10\nM5\n");
+  REQUIRE(job.lines.size() == 12);
+  JournalState journal;
+  journal.last_acked = 4;  // the journal ends at the first pen-down; the board ran on to line 8
+  const ResumeWindow window{128, 0, 1};
+  CHECK(resume_point(job, journal, DevicePen{true, false, 10, 10}, window) == 9);
+  // Pen down there: the first stroke's pen-down (line 4) left it so, and that comes first.
+  CHECK(resume_point(job, journal, DevicePen{true, true, 10, 10}, window) == 5);
+  // Part way along the first stroke, pen lifted by a hold: that move again.
+  CHECK(resume_point(job, journal, DevicePen{true, false, 15, 10}, window) == 5);
+}
+
 TEST_CASE("resume plans: lift, travel, restore the pen, dots are not touched twice", "[drivers][journal]") {
   // lines: 0 G21, 1 G90, 2 M5, 3 G0 X10 Y10, 4 M3 S30, 5 G4 P0.1, 6 G1 X20 Y10 F600, 7 G1 X20 Y20,
   //        8 M5, 9 G0 X50 Y50, 10 M3 S30, 11 G4 P0.1, 12 M5, 13 G0 X0 Y0

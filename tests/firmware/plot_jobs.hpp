@@ -2,6 +2,7 @@
 // Jobs for the firmware tests, made by today's stipplot CLI, and `stipplot plot` run
 // against the firmware's port: small enough that each plots in a few simulated seconds.
 #include <nlohmann/json.hpp>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,17 @@ inline Job tree_job(const std::string& profile, const std::string& out,
   auto r = test::run_cli("tree " + example("horse.png") + " " + extra + " --profile " + profile + " -o " + out + " --json");
   if (r.exit_code != 0) throw std::runtime_error("stipplot tree failed: " + r.err);
   return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};
+}
+
+// The job without its M0 pen-change pauses: grbl holds there until the operator (or the
+// host's next status poll) sends cycle start, a wait no estimate can know.
+inline std::string without_pauses(const std::string& path) {
+  std::string out;
+  for (const std::string& l : gcode_lines(test::read_file(path)))
+    if (grbl_line_filter(l).rfind("M0", 0) != 0) out += l + "\n";
+  const std::string p = path + ".nopause.gcode";
+  std::ofstream(p) << out;
+  return p;
 }
 
 struct Plot {

@@ -192,8 +192,15 @@ TEST_CASE("grbl firmware: a power cut mid-move, and power on again", "[firmware]
 // grbl-sim's clock runs at -t times the wall clock, or as fast as it can (about 1-2x
 // real time on the CI machine) when that is less. The firmware's record is in simulated
 // time, so a larger -t must change nothing but the host's latency as grbl sees it.
+// The job opens with a 1 s dwell: its 94 bytes fit grbl's RX buffer and the relay
+// delivers them in 8 ms of wall time, so every line is waiting in grbl before the first
+// move, whatever the timescale and however late a loaded host's relay thread runs (at
+// -t 20 a 10 ms stall of the relay is 200 ms of grbl's time: without the dwell a late
+// line made the planner stop between moves and the times differ by tens of ms).
 TEST_CASE("grbl firmware: the block log and plot times do not depend on the -t timescale", "[firmware]") {
-  const std::string job = "G21\nG90\nG0 X5 Y5\nM3 S1000\nG4 P0.1\nG1 X25 Y5 F3000\nG1 X25 Y15\nG1 X5 Y5\nM5\nG4 P0.1\nG0 X0 Y0\n";
+  const std::string job =
+      "G21\nG90\nG4 P1\nG0 X5 Y5\nM3 S1000\nG4 P0.1\nG1 X25 Y5 F3000\nG1 X25 Y15\nG1 X5 Y5\nM5\nG4 P0.1\nG0 X0 Y0\n";
+  REQUIRE(job.size() < 127);
   std::vector<SessionRecord> runs;
   for (double t : {1.0, 20.0}) {
     FirmwareOptions o = GrblFirmware::with_settings("grbl-servo");

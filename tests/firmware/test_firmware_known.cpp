@@ -25,17 +25,6 @@ void say(const char* fmt, ...) {
   std::fflush(stdout);
 }
 
-// The job without its M0 pen-change pauses: grbl holds there until the host's next status
-// poll sees it and sends cycle start, a host-side wait the estimate rightly leaves out.
-std::string without_pauses(const std::string& path) {
-  std::string out, text = test::read_file(path);
-  for (const std::string& l : gcode_lines(text))
-    if (grbl_line_filter(l).rfind("M0", 0) != 0) out += l + "\n";
-  std::string p = path + ".nopause.gcode";
-  std::ofstream(p) << out;
-  return p;
-}
-
 // Motion stops inside the measured span: each costs grbl's stepper idle lock ($1 = 25 ms,
 // a busy wait in the stepper interrupt when the segment buffer runs dry).
 size_t rests_inside(const FirmwareRecord& r) {
@@ -64,7 +53,7 @@ TEST_CASE("firmware known: stipplot's time estimate against the firmware's plot 
         {"foreign", jobs::export_job(jobs::example("foreign.svg"), profile, t.file("foreign-" + profile + ".gcode"))},
     };
     for (const TimedJob& j : list) {
-      std::string path = without_pauses(j.job.path);
+      std::string path = jobs::without_pauses(j.job.path);
       GrblFirmware fw(profile + "-bf");
       auto c0 = std::chrono::steady_clock::now();
       jobs::Plot p = jobs::plot(path, profile, fw.port());
