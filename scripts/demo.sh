@@ -6,6 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh build
+bash scripts/install_link.sh build
 mkdir -p out
 S=./build/src/cli/stipplot
 # The defaults: A4, a 0.3 mm pen, the tone law, a plot of about an hour on grbl-servo.

@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (fuzz/) with Debian's clang-14 under AddressSanitizer and
 # UndefinedBehaviorSanitizer (float-cast-overflow included) and runs each for
-# FUZZ_SECONDS (default 15; six targets, 90 s in all) from its seed corpus,
+# FUZZ_SECONDS (default 10; six targets, 60 s in all) from its seed corpus,
 # tests/fuzz/corpus/<target>/ (copied: the tracked seeds stay as they are). Prints each
 # target's executions; a crash, leak, timeout or memory blow-up fails the script and
 # leaves its input in build-fuzz/crashes/<target>/: copy it to tests/fuzz/crashes/<target>/,
 # where the replay test (tests/fuzz/test_fuzz_replay.cpp) keeps it as a regression test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-secs=${FUZZ_SECONDS:-15}
+secs=${FUZZ_SECONDS:-10}
 dir=${FUZZ_BUILD_DIR:-build-fuzz}
 gen=()
 command -v ninja >/dev/null && gen=(-G Ninja)
