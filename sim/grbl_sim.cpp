@@ -163,7 +163,9 @@ void GrblSim::on_byte(char c, double t) {
   switch (u) {
     case '?': status(t); return;
     case '!':
-      if (!hold_ && (machine_busy() || pause_m0_)) {
+      // As grbl 1.1h: a hold in any state but alarm and check mode; from idle it is
+      // complete at once (Hold:0).
+      if (!hold_ && !alarm_ && !check_) {
         hold_ = true;
         motion_.hold(t);
         mark_paused();

@@ -277,6 +277,41 @@ TEST_CASE("a port that vanishes mid-job gives a clear error and a journal, resum
   std::filesystem::remove_all(dir);
 }
 
+// A host that died writing a line leaves its start in grbl's receive buffer: grbl waits
+// for the rest for ever. connect() drops it (a feed hold, then a reset: never a reset that
+// could land on a move, which raises ALARM:3), keeping the position, and the job goes on.
+TEST_CASE("grbl connect drops a line a dead host left half-written, with no alarm", "[drivers][grbl][resume]") {
+  sim::GrblSim sim(fast_config());
+  const std::string path = sim.open_pty();
+  {
+    PosixSerial dead_port(path, {});
+    grbl::Streamer(dead_port, {}).connect();  // the host that dies had the banner
+    Transport& dead = dead_port;
+    dead.write(std::string_view("G21\nG90\nG0 X12 Y7\n"));
+    dead.write(std::string_view("G1 X3"));  // killed here
+    dead.flush();
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  }
+  PosixSerial port(path, {});
+  std::vector<std::string> notes;
+  grbl::Options o;
+  o.log = [&](const std::string& n) { notes.push_back(n); };
+  grbl::Streamer st(port, o);
+  st.connect();
+  bool dropped = false;
+  for (const auto& n : notes) dropped |= n.find("did not finish") != std::string::npos;
+  CHECK(dropped);
+  std::string said;
+  for (const auto& n : notes) said += n + "; ";
+  INFO(said);
+  CHECK_FALSE(st.restarted());  // nothing it had begun was lost
+  const DevicePen pen = st.device_pen();
+  CHECK(pen.x == Approx(12).margin(0.01));
+  CHECK(pen.y == Approx(7).margin(0.01));
+  Job job = small_job(3, 4);
+  CHECK(st.stream(job, 0, {}, nullptr).completed);
+}
+
 TEST_CASE("pause, resume and abort mid-job: the journal keeps what ran, resume draws the rest exactly", "[drivers][grbl][resume]") {
   auto dir = temp_dir();
   const std::string jpath = (dir / "paused.gcode.journal").string();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <thread>
 
@@ -151,13 +152,34 @@ void Streamer::wait_until_done(Status st) {
       restarted_ = true;
       note("grbl was left in a feed hold with motion buffered: reset it (the resume goes from where it stopped)");
     } else if (idle && planner_empty && known && clock::now() - unchanged_since > Millis(2000)) {
-      soft_reset();  // idle: the position is kept, nothing buffered ran or will
+      // Idle with bytes waiting for 2 s: a line cut short (or a dwell on a machine slower
+      // than the clock says, about to run the lines behind it). A feed hold first, so that
+      // the reset never lands on a move just begun (grbl would raise ALARM:3); a reset in
+      // a completed hold keeps the position.
+      const bool moved = hold_for_reset();
+      soft_reset();
+      if (moved) restarted_ = true;  // what it had begun is gone: the resume finds where it stopped
       note("grbl held " + std::to_string(o_.rx_buffer - st.bytes_free) +
            " bytes of a line an earlier session did not finish: reset it to drop them");
     }
     was = st;
     std::this_thread::sleep_for(Millis(100));
     st = query_status(Millis(3000));
+  }
+}
+
+bool Streamer::hold_for_reset() {
+  const Status before = query_status(Millis(3000));
+  t_.write("!");
+  const auto end = clock::now() + Millis(10000);
+  bool moved = false;
+  for (;;) {
+    const Status st = query_status(Millis(3000));
+    moved |= st.state != "Hold:0" || std::abs(st.x - before.x) > 1e-3 || std::abs(st.y - before.y) > 1e-3;
+    if (st.state == "Hold:0") return moved;
+    if (clock::now() > end)
+      throw TransportError(TransportError::Kind::Timeout, "grbl did not come to a feed hold within 10 s (state " + st.state + ")");
+    std::this_thread::sleep_for(Millis(50));
   }
 }
 

@@ -88,6 +88,9 @@ class Streamer {
  private:
   class JobRun;  // one stream() call: sending, answers, controls
   void note(const std::string& s);
+  // Feed hold ('!') and wait for Hold:0, before a reset that must not catch a move (a
+  // reset in motion raises ALARM:3). True if grbl moved or was moving meanwhile.
+  bool hold_for_reset();
   // Reads lines until grbl's start-up banner, at most `timeout`; false if none came.
   bool wait_for_banner(Millis timeout, Millis slice = Millis(100));
   // Until what an earlier session left in grbl has run (connect).
