@@ -4,7 +4,7 @@
 # plotter. Everything lands in out/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/setup.sh
+bash scripts/setup.sh build
 bash scripts/build.sh build
 bash scripts/install_link.sh build
 mkdir -p out

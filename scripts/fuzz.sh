@@ -8,6 +8,7 @@
 # where the replay test (tests/fuzz/test_fuzz_replay.cpp) keeps it as a regression test.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+command -v clang++-14 >/dev/null || bash scripts/setup.sh test
 secs=${FUZZ_SECONDS:-10}
 dir=${FUZZ_BUILD_DIR:-build-fuzz}
 gen=()

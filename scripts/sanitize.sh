@@ -6,6 +6,7 @@
 # only; run this before a release or after touching memory-heavy code.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+bash scripts/setup.sh
 bash scripts/build.sh build-asan -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -g1" -DSTIPPLOT_WERROR=ON \
   -DSTIPPLOT_SANITIZE=ON -DSTIPPLOT_BENCH=OFF
 cd build-asan

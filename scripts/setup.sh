@@ -1,33 +1,47 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages stipplot needs, only those missing. Idempotent.
+#   setup.sh build   what building needs (the libraries, compilers, CMake)
+#   setup.sh test    what only the tests need: clang-14 for the fuzz targets, chromium and
+#                    playwright-core (npm) for the studio's browser test, Inkscape's examples
+#   setup.sh         both
 set -euo pipefail
-PKGS=(
+what=${1:-all}
+BUILD=(
   build-essential cmake ninja-build pkg-config git
   libserialport-dev libusb-1.0-0-dev libtinyxml2-dev catch2
   libopencv-core-dev libopencv-imgproc-dev libstb-dev libcairo2-dev
   libcli11-dev libtomlplusplus-dev libnanoflann-dev libbenchmark-dev nlohmann-json3-dev
   libhersheyfont-dev hershey-fonts-data zlib1g-dev
-  clang-14 libclang-rt-14-dev  # the libFuzzer targets (scripts/fuzz.sh)
   libcpp-httplib-dev  # `stipplot serve`
+)
+TEST=(
+  clang-14 libclang-rt-14-dev  # the libFuzzer targets (scripts/fuzz.sh)
   chromium            # not built against: the studio's browser test drives it headless
   inkscape  # not built against: its example drawings (/usr/share/inkscape/examples) are test inputs
 )
 # The browser test's driver (playwright-core, tests/browser) comes from npm.
-command -v npm >/dev/null 2>&1 || PKGS+=(nodejs npm)
+command -v npm >/dev/null 2>&1 || TEST+=(nodejs npm)
+case $what in
+  build) PKGS=("${BUILD[@]}") ;;
+  test) PKGS=("${TEST[@]}") ;;
+  all) PKGS=("${BUILD[@]}" "${TEST[@]}") ;;
+  *) echo "setup.sh: build, test or nothing (both), not '$what'" >&2; exit 2 ;;
+esac
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -eq 0 ]; then
-  echo "setup: all ${#PKGS[@]} packages present"
+  echo "setup ($what): all ${#PKGS[@]} packages present"
 else
-  echo "setup: installing ${missing[*]}"
+  echo "setup ($what): installing ${missing[*]}"
   SUDO=""
   [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   export DEBIAN_FRONTEND=noninteractive
   $SUDO apt-get update -qq
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
+[ "$what" = build ] && exit 0
 # playwright-core as the lock file pins it (no browser download: it drives /usr/bin/chromium).
 browser_dir="$(dirname "$0")/../tests/browser"
 if ! cmp -s "$browser_dir/package-lock.json" "$browser_dir/node_modules/.installed-lock.json" 2>/dev/null; then

@@ -307,6 +307,41 @@ Placement placement_for_device(Placement p, const LayoutArgs& sheet_args, const 
   return p;
 }
 
+// The method drawn at the density whose plan fits the budget (or at --knob): the density
+// search, then one try at the full tone when the prediction says it fits. Every run is
+// kept, so the search can fall back to an earlier one at no cost.
+MethodResult draw_within_budget(const MethodDraft& draft, double knob, double budget_s, const DeviceProfile& prof,
+                                const PlanOptions& po, budget::SearchOutcome& so) {
+  std::map<double, MethodResult> runs;
+  auto run_at = [&](double k) {
+    MethodResult r = draft.draw(k);
+    const double t = budget::quick_estimate_seconds(r.drawing, prof.motion, po);
+    runs[k] = std::move(r);
+    return t;
+  };
+  budget::SearchOptions so_opt;
+  so_opt.budget_s = budget_s;
+  if (knob >= 0) {
+    so.knob = knob;
+    so.seconds = run_at(knob);
+    so.predicted = draft.predict(knob);
+    so.runs = 1;
+  } else {
+    so = budget::choose_density(so_opt, draft.predict, run_at, draft.calibrate);
+    // The search aims below the budget for the prediction's error; when the full tone is
+    // predicted to fit the budget all the same, try it once, keep it if it does.
+    if (draft.tone_share && draft.tone_share(so.knob) < 0.995) {
+      const double k_full = full_tone_knob(draft, so.knob);
+      if (so.correction * draft.predict(k_full) <= budget_s) {
+        const double t = run_at(k_full);
+        ++so.runs;
+        if (t <= budget_s) so.knob = k_full, so.seconds = t;
+      }
+    }
+  }
+  return std::move(runs.at(so.knob));
+}
+
 }  // namespace
 
 void MethodCommand::run() const {
@@ -337,37 +372,8 @@ void MethodCommand::run() const {
   // The draft may keep references to the input: it lives as long as the draft.
   const MethodInput input{image, placement, costs, !a.report.json && !a.report.quiet};
   const MethodDraft draft = prepare_(input);
-  // Every run is kept, so the search can fall back to an earlier one at no cost.
-  std::map<double, MethodResult> runs;
-  auto run_at = [&](double k) {
-    MethodResult r = draft.draw(k);
-    const double t = budget::quick_estimate_seconds(r.drawing, prof.motion, po);
-    runs[k] = std::move(r);
-    return t;
-  };
-  budget::SearchOptions so_opt;
-  so_opt.budget_s = budget_s;
   budget::SearchOutcome so;
-  if (a.knob >= 0) {
-    so.knob = a.knob;
-    so.seconds = run_at(a.knob);
-    so.predicted = draft.predict(a.knob);
-    so.runs = 1;
-  } else {
-    so = budget::choose_density(so_opt, draft.predict, run_at, draft.calibrate);
-    // The search aims below the budget for the prediction's error; when the full tone is
-    // predicted to fit the budget all the same, try it once, keep it if it does.
-    if (draft.tone_share && draft.tone_share(so.knob) < 0.995) {
-      const double k_full = full_tone_knob(draft, so.knob);
-      if (so.correction * draft.predict(k_full) <= budget_s) {
-        const double t = run_at(k_full);
-        ++so.runs;
-        if (t <= budget_s) so.knob = k_full, so.seconds = t;
-      }
-    }
-  }
-  MethodResult r = std::move(runs.at(so.knob));
-  runs.clear();
+  MethodResult r = draw_within_budget(draft, a.knob, budget_s, prof, po, so);
   // Each pen taken up once, light inks before dark (a dark pen never drags through a
   // light one's wet ink), whatever the method.
   merge_layers_by_pen(r.drawing);
