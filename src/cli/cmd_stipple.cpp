@@ -286,8 +286,8 @@ void register_stipple(CLI::App& app) {
   const char* g = "Stippling";
   cmd->add_option("-m,--method", args->method, "random|gray|negative|binary|color|cmyk")->capture_default_str();
   auto* law = cmd->add_option("--law", args->law,
-                              "tone (dots for the photo's tones on paper) or linear (the paper's r = a + b d/255; "
-                              "implied by -a, -b, ...)")
+                              "tone|linear (tone: dots for the photo's tones on paper; linear: the paper's "
+                              "r = a + b d/255, implied by -a, -b, ...)")
                   ->capture_default_str()->group(g);
   cmd->add_option("--max-dot", args->max_dot, "Tone: the largest dot (mm, cm, in, pt); default: chosen for --time")
       ->group(g);

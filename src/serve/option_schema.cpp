@@ -54,7 +54,8 @@ bool skipped(const CLI::Option& o, const std::set<std::string>& skip) {
 nlohmann::json option_schema(const CLI::App& command, const std::set<std::string>& skip) {
   nlohmann::json out = nlohmann::json::array();
   for (const CLI::Option* o : command.get_options()) {
-    if (o->get_positional() || skipped(*o, skip)) continue;
+    // Hidden options (no group: the benchmark's --knob) are no studio controls either.
+    if (o->get_positional() || o->get_group().empty() || skipped(*o, skip)) continue;
     const std::string name = display_name(*o);
     if (name.empty() || name == "--help") continue;
     const std::string help = o->get_description();

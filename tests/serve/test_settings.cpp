@@ -33,6 +33,10 @@ TEST_CASE("serve schema: the controls are the CLI's own options with their defau
   REQUIRE(method);
   CHECK((*method)["default"] == "gray");
   CHECK((*method)["choices"] == json({"random", "gray", "negative", "binary", "color", "cmyk"}));
+  const json* law = find(opts, "--law");
+  REQUIRE(law);
+  CHECK((*law)["choices"] == json({"tone", "linear"}));
+  CHECK_FALSE(find(opts, "--knob"));  // hidden from --help, so from the studio too
   const json* margin = find(opts, "--margin");
   REQUIRE(margin);
   CHECK((*margin)["unit"] == "mm");

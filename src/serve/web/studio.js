@@ -51,7 +51,8 @@ function makeControl(opt) {
   label.className = 'ctl';
   label.htmlFor = id;
   label.textContent = opt.name.replace(/^-+/, '');
-  if (opt.unit) { const u = document.createElement('span'); u.className = 'unit'; u.textContent = opt.unit; label.appendChild(u); }
+  // A default written with its unit ("3px") shows that unit beside its number instead.
+  if (opt.unit && !withUnit(opt.default)) { const u = document.createElement('span'); u.className = 'unit'; u.textContent = opt.unit; label.appendChild(u); }
   if (opt.default !== '' && !opt.flag) { const d = document.createElement('span'); d.className = 'def'; d.textContent = '  default ' + opt.default; label.appendChild(d); }
   let input;
   const row = document.createElement('div');
@@ -93,7 +94,7 @@ function makeControl(opt) {
     input.addEventListener('change', () => { range.value = input.value; changed(false); });
     range.id = id + '_range';
     row.append(range, input);
-    if (unit) { const u = document.createElement('span'); u.className = 'unit'; u.textContent = unit[2]; row.appendChild(u); }
+    if (unit) { const u = document.createElement('span'); u.className = 'unit'; u.textContent = unit[2]; row.appendChild(u); row.classList.add('with-unit'); }
   } else {
     input = document.createElement('input');
     input.type = isNumber(opt.default) ? 'number' : 'text';
