@@ -3,6 +3,7 @@
 # methods, on the shared photos: BEFORE_BIN (an older stipplot, its own preview) and
 # AFTER_BIN at the default --time and at a --time long enough for the full tone.
 # Usage: scripts/measure_colour.sh BEFORE_BIN AFTER_BIN SHARED_DIR OUT_DIR
+# IMAGES="a.png b.jpg" measures only those of SHARED_DIR/images.
 set -euo pipefail
 before=$1 after=$2 shared=$3 out=$4
 mkdir -p "$out"
@@ -10,7 +11,7 @@ modes=("stipple --method color" "stipple --method cmyk" "sketch --space rgb" "sk
        "pointillism" "pointillism --plot-pens")
 de() { "$after" eval "$1" "$2" --json | python3 -c 'import json,sys; print("%.1f" % json.load(sys.stdin)["mean_de00"])'; }
 printf '| method | image | before | after, --time 1h | after, full tone |\n|---|---|---|---|---|\n'
-for img in coffee.png horse.png rocket.jpg starry_night.jpg; do
+for img in ${IMAGES:-coffee.png horse.png rocket.jpg starry_night.jpg}; do
   for mode in "${modes[@]}"; do
     tag=$(echo "$mode" | tr -c 'a-z0-9' '_')
     b=$out/${img%.*}_${tag}_before.png a=$out/${img%.*}_${tag}_1h.png f=$out/${img%.*}_${tag}_full.png
