@@ -29,6 +29,8 @@ struct ExportArgs {
 };
 }  // namespace
 
+// One declaration a line, the footer's examples and the run: long only because export has
+// the most options of any command; each is read where its library takes it.
 void register_export(CLI::App& app) {
   auto args = std::make_shared<ExportArgs>();
   CLI::App* cmd = app.add_subcommand("export", "Plan an SVG drawing for a plotter and write G-code, HPGL or planned SVG");
