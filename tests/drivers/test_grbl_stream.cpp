@@ -312,6 +312,45 @@ TEST_CASE("grbl connect drops a line a dead host left half-written, with no alar
   CHECK(st.stream(job, 0, {}, nullptr).completed);
 }
 
+// Found on the real grbl firmware (host kill, 1 run in 60): the host died, grbl ran on
+// through the lines in its receive buffer, and the next connect reset it (here: a hold
+// the host left). The reset loses the planner, not what already ran: the resume must look
+// past the journal as well as behind it, or it finds the pen nowhere and draws again from
+// the window's start.
+TEST_CASE("grbl resume after a connect that reset grbl: the lines it ran past the journal count", "[drivers][grbl][resume]") {
+  // lines: 0 G21, 1 G90, 2 M5, 3 G0 X10 Y10, 4 M3 S30, 5 G1 X20 Y10 F600, 6 G1 X20 Y20,
+  //        7 M5, 8 G0 X30 Y30, 9 M3 S30, 10 G1 X0 Y10, 11 M5
+  const std::string text = "G21\nG90\nM5\nG0 X10 Y10\nM3 S30\nG1 X20 Y10 F600\nG1 X20 Y20\nM5\nG0 X30 Y30\nM3 S30\n"
+                           "G1 X0 Y10\nM5\n";
+  const Job job = parse_gcode_job(text);
+  REQUIRE(job.lines.size() == 12);
+  sim::GrblSim sim(fast_config());
+  const std::string path = sim.open_pty();
+  {
+    PosixSerial dead_port(path, {});
+    grbl::Streamer dead(dead_port, {});
+    dead.connect();
+    Transport& t = dead_port;
+    t.write(std::string_view(text.substr(0, text.find("M3 S30\nG1 X0"))));  // lines 0-8
+    t.flush();
+    for (int i = 0; i < 200 && std::abs(dead.device_pen().x - 30) > 0.01; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    t.write(std::string_view("!"));  // the host's last act: a feed hold (it dies in a pause)
+    t.flush();
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  PosixSerial port(path, {});
+  grbl::Streamer st(port, {});
+  st.connect();
+  REQUIRE(st.restarted());  // the hold was reset
+  JournalState journal;
+  journal.last_acked = 4;  // the dead host heard of lines 0-4 only
+  const DevicePen pen = st.device_pen();
+  CHECK(pen.x == Approx(30).margin(0.01));
+  const ResumePlan rp = resume_from_journal(job, journal, pen, st.resume_window());
+  CHECK(rp.next == 9);  // after the travel to (30, 30): nothing drawn twice
+}
+
 TEST_CASE("pause, resume and abort mid-job: the journal keeps what ran, resume draws the rest exactly", "[drivers][grbl][resume]") {
   auto dir = temp_dir();
   const std::string jpath = (dir / "paused.gcode.journal").string();

@@ -138,6 +138,14 @@ BlockLog parse_block_log(const std::string& text) {
     if (std::sscanf(l.c_str(), "%ld, %ld, %ld, %lf, %u, %lf, %lf", &b.end.x, &b.end.y, &b.end.z, &b.entry_speed_sqr,
                     &b.condition, &b.spindle, &b.mm_logged) != 7)
       continue;
+    // The logger walks grbl's ring buffer from the last block it printed to the head; when
+    // it runs between a reset's plan_reset() (which zeroes the buffer and moves the head to
+    // 0) and the banner that tells it of the reset, it prints the zeroed slots it passes.
+    // grbl never plans a block without steps, so a zeroed one is that and nothing else.
+    if (b.mm_logged == 0 && b.condition == 0 && b.spindle == 0 && b.entry_speed_sqr == 0) {
+      ++bl.zeroed_slots;
+      continue;
+    }
     if (bl.epochs.empty()) {  // a log that starts without its boot line
       bl.resets.push_back({});
       bl.epochs.emplace_back();

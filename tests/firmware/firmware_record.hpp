@@ -69,6 +69,7 @@ struct BlockLog {
   std::vector<ResetMark> resets;                  // resets[0]: the boot
   std::vector<std::vector<PlannedBlock>> epochs;  // epochs[i]: blocks planned after resets[i]
   size_t rx_drops = 0;
+  size_t zeroed_slots = 0;  // empty ring-buffer slots the logger printed at a reset (not blocks)
 };
 BlockLog parse_block_log(const std::string& text);  // O(text)
 

@@ -53,6 +53,19 @@ TEST_CASE("firmware logs: block log epochs, resets and rx drops", "[firmware-log
   CHECK(bl.rx_drops == 1);
 }
 
+TEST_CASE("firmware logs: the zeroed slots a reset leaves in the ring buffer are no blocks", "[firmware-logs]") {
+  // Seen on a soft reset after a dead host's job: the logger ran between plan_reset() and
+  // the banner and printed slots 2..15 as grbl had just zeroed them.
+  std::string log = std::string(kBlocks);
+  for (int i = 0; i < 14; ++i) log += "2000, 1000, 0, 0.000000, 0, 0, 0.0000\n";
+  log += "# reset at 3.00000 pos 2000, 1000, 0\n3000, 1000, 0, 0.000000, 1, 0, 10.0000\n";
+  BlockLog bl = parse_block_log(log);
+  REQUIRE(bl.epochs.size() == 2);
+  CHECK(bl.epochs[0].size() == 2);
+  CHECK(bl.epochs[1].size() == 1);
+  CHECK(bl.zeroed_slots == 14);
+}
+
 TEST_CASE("firmware logs: step log pauses are the planner running dry", "[firmware-logs]") {
   StepLog sl = parse_step_log(kSteps, 0.001, false, true);
   REQUIRE(sl.lines.size() == 12);  // the exit line dropped

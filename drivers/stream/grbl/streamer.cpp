@@ -106,6 +106,19 @@ void Streamer::connect() {
     }
   }
   if (!alive) {
+    // A board that is only slow to answer may be moving: a reset on a move raises ALARM:3
+    // and loses the position. A feed hold first (harmless if it is idle, or not grbl),
+    // then one more question; still silent, the hold has long completed when the reset
+    // comes (seen on the real firmware once in 60 host kills: no status for 1.9 s).
+    t_.write("!");
+    try {
+      st = query_status(o_.probe_timeout);
+      alive = true;
+    } catch (const TransportError& e) {
+      if (e.kind() != TransportError::Kind::Timeout) throw;
+    }
+  }
+  if (!alive) {
     try {
       soft_reset();
       restarted_ = true;

@@ -74,9 +74,10 @@ class Streamer {
   // the lines acknowledged last may not have run.
   bool restarted() const { return restarted_; }
   // How far grbl may be from the journal of a session that did not stop it: its receive
-  // buffer ahead, and, if its buffers were lost, its planner behind.
+  // buffer ahead (a dead host's last lines ran, reset or not: a reset at connect loses
+  // only what was still buffered), and, if its buffers were lost, its planner behind.
   ResumeWindow resume_window() const {
-    return {restarted_ ? 0 : static_cast<size_t>(o_.rx_buffer), restarted_ ? static_cast<size_t>(o_.planner_blocks) : 0, 1};
+    return {static_cast<size_t>(o_.rx_buffer), restarted_ ? static_cast<size_t>(o_.planner_blocks) : 0, 1};
   }
   // Streams job lines [start, end) after `preamble`. Throws DeviceError / TransportError;
   // the journal is synced first, so `plot --resume` can continue.
