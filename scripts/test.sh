@@ -26,10 +26,9 @@ phase "set-up for the tests"
 (cd build && ctest --output-on-failure -j "$(nproc)" -LE firmware)
 phase "tests"
 # The real grbl firmware (grbl-sim, two busy threads on a wall clock, behind a pty relay) now
-# and then misses a beat the tests cannot tell from a fault: measured over 70 runs of the
-# host-kill test, about one in 20 saw a status query unanswered for 3 s or the harness's
-# settings unanswered at start-up. A failing firmware test runs once more; one that fails
-# for a reason fails twice.
+# and then goes silent to status queries for seconds while it runs on: 2 of 67 runs of the
+# host-kill test here (tests/firmware/README.md). A failing firmware test runs once more; one
+# that fails for a reason fails twice.
 (cd build && ctest --output-on-failure -L firmware --repeat until-pass:2)
 phase "firmware tests"
 bash scripts/fuzz.sh

@@ -21,7 +21,7 @@ void dump(const FirmwareRecord& rec) {
     std::printf("  host %.3f %s%s -> %s %.3f\n", l.t_sent, l.from_client ? "" : "[harness] ", l.text.c_str(),
                 reply[static_cast<int>(l.reply)], l.t_reply);
   for (const DeviceLine& l : rec.device)
-    if (l.text != "ok") std::printf("  grbl %.3f %s\n", l.t, l.text.c_str());
+    std::printf("  grbl %.3f%s %s\n", l.t, l.forwarded ? "" : " (not forwarded)", l.text.c_str());
   std::fflush(stdout);
 }
 }  // namespace
