@@ -25,8 +25,8 @@ cat build/setup-test.log
 phase "set-up for the tests"
 (cd build && ctest --output-on-failure -j "$(nproc)" -LE firmware)
 phase "tests"
-# The real grbl firmware (grbl-sim, two busy threads on a wall clock, behind a pty relay) now
-# and then goes silent to status queries for seconds while it runs on: 2 of 67 runs of the
+# The real grbl firmware rig (grbl-sim, two busy threads on a wall clock, behind the tests' pty
+# relay) now and then leaves status queries unanswered for seconds while grbl runs on: 2 of 67 runs of the
 # host-kill test here (tests/firmware/README.md). A failing firmware test runs once more; one
 # that fails for a reason fails twice.
 (cd build && ctest --output-on-failure -L firmware --repeat until-pass:2)
