@@ -97,26 +97,23 @@ void Streamer::connect() {
   bool alive = wait_for_banner(Millis(400), Millis(50));
   restarted_ = alive;
   Status st;
-  if (!alive) {
+  auto answers = [&] {
     try {
       st = query_status(o_.probe_timeout);
-      alive = true;
+      return true;
     } catch (const TransportError& e) {
       if (e.kind() != TransportError::Kind::Timeout) throw;
+      return false;
     }
-  }
+  };
+  // A board that is only slow to answer may be moving: a reset on a move raises ALARM:3
+  // and loses the position. So a feed hold first (harmless if it is idle, or not grbl),
+  // then one more question; still silent, the hold has long completed when the reset
+  // comes (seen on the real firmware once in 60 host kills: no status for 1.9 s).
+  if (!alive) alive = answers();
   if (!alive) {
-    // A board that is only slow to answer may be moving: a reset on a move raises ALARM:3
-    // and loses the position. A feed hold first (harmless if it is idle, or not grbl),
-    // then one more question; still silent, the hold has long completed when the reset
-    // comes (seen on the real firmware once in 60 host kills: no status for 1.9 s).
     t_.write("!");
-    try {
-      st = query_status(o_.probe_timeout);
-      alive = true;
-    } catch (const TransportError& e) {
-      if (e.kind() != TransportError::Kind::Timeout) throw;
-    }
+    alive = answers();
   }
   if (!alive) {
     try {
