@@ -18,6 +18,7 @@ TEST=(
   clang-14 libclang-rt-14-dev  # the libFuzzer targets (scripts/fuzz.sh)
   chromium            # not built against: the studio's browser test drives it headless
   inkscape  # not built against: its example drawings (/usr/share/inkscape/examples) are test inputs
+  gcc-avr avr-libc binutils-avr simavr libsimavr-dev  # the firmware oracle: grbl 1.1h's AVR binary on simavr
 )
 # The browser test's driver (playwright-core, tests/browser) comes from npm.
 command -v npm >/dev/null 2>&1 || TEST+=(nodejs npm)

@@ -25,11 +25,9 @@ cat build/setup-test.log
 phase "set-up for the tests"
 (cd build && ctest --output-on-failure -j "$(nproc)" -LE firmware)
 phase "tests"
-# The real grbl firmware rig (grbl-sim, two busy threads on a wall clock, behind the tests' pty
-# relay) now and then loses bytes on their way to grbl: a status query unanswered, a setting
-# line garbled (tests/firmware/README.md). A failing firmware test runs up to twice more; one
-# that fails for a reason fails every time.
-(cd build && ctest --output-on-failure -L firmware --repeat until-pass:3)
+# The real grbl 1.1h AVR binary on simavr (tests/firmware): one simulated CPU, paced to the
+# wall clock, no host threads to race. A firmware test passes first time or fails.
+(cd build && ctest --output-on-failure -L firmware)
 phase "firmware tests"
 bash scripts/fuzz.sh
 phase "fuzzing"

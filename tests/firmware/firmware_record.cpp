@@ -3,21 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <sstream>
 
 namespace firmware {
 
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-std::vector<std::string> split_lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::istringstream in(text);
-  std::string l;
-  while (std::getline(in, l)) out.push_back(l);
-  return out;
-}
 
 double length_mm(Steps a, Steps b, const MachineSettings& s) {
   double dx = (b.x - a.x) / s.steps_per_mm[0], dy = (b.y - a.y) / s.steps_per_mm[1], dz = (b.z - a.z) / s.steps_per_mm[2];
@@ -29,245 +21,276 @@ double length_mm(Steps a, Steps b, const MachineSettings& s) {
 double block_accel(Steps a, Steps b, const MachineSettings& s) {
   const double d[3] = {(b.x - a.x) / s.steps_per_mm[0], (b.y - a.y) / s.steps_per_mm[1], (b.z - a.z) / s.steps_per_mm[2]};
   double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-  double acc = kInf;
+  double acc = std::numeric_limits<double>::infinity();
   for (int i = 0; i < 3; ++i)
     if (d[i] != 0) acc = std::min(acc, s.accel_mm_s2[i] * len / std::abs(d[i]));
   return std::isfinite(acc) ? acc : s.accel_mm_s2[0];
 }
 
-// p lies on the straight move a -> b, allowing for the stepper's Bresenham rounding.
-bool on_segment(Steps p, Steps a, Steps b) {
-  const double d[3] = {double(b.x - a.x), double(b.y - a.y), double(b.z - a.z)};
-  const double q[3] = {double(p.x - a.x), double(p.y - a.y), double(p.z - a.z)};
-  double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-  if (dd == 0) return p == a;
-  double t = (q[0] * d[0] + q[1] * d[1] + q[2] * d[2]) / dd;
-  if (t < -1e-9 - 1.0 / std::sqrt(dd) || t > 1 + 1.0 / std::sqrt(dd)) return false;
-  double e = 0;
-  for (int i = 0; i < 3; ++i) e += (q[i] - t * d[i]) * (q[i] - t * d[i]);
-  return e <= 1.5 * 1.5;
+// The time a block's first step takes from rest (and its last one to rest): one step of
+// the dominant axis at the block's acceleration.
+double first_step_s(Steps a, Steps b, const MachineSettings& s) {
+  const long n = std::max({std::labs(b.x - a.x), std::labs(b.y - a.y), std::labs(b.z - a.z)});
+  if (n == 0) return 0;
+  return std::sqrt(2 * length_mm(a, b, s) / static_cast<double>(n) / block_accel(a, b, s));
 }
 
-// Which block each step-log line lies on: the planned path is followed forward only (a
-// line may skip short blocks; a point the path passes twice is taken at the earlier pass
-// until a later line shows otherwise). -1: on no block within reach.
-// O(lines x 2000) at worst, O(lines + blocks) when every line lies on the path.
-std::vector<long> align_lines(const std::vector<ExecutedBlock>& b, size_t first, size_t last, const std::vector<StepLine>& l,
-                              size_t lo, size_t hi) {
-  std::vector<long> at(hi - lo, -1);
-  if (first >= last) return at;
-  size_t k = first;
-  for (size_t i = lo; i < hi; ++i) {
-    const Steps p = l[i].pos;
-    for (size_t j = k; j < last && j < k + 2000; ++j)
-      if (on_segment(p, b[j].start, b[j].planned.end)) {
-        k = j;
-        at[i - lo] = static_cast<long>(j);
+long sign(long v) { return (v > 0) - (v < 0); }
+
+// q follows p on grbl's straight move s -> e: each axis one step at most, towards e and
+// not past it, within one step of the ideal line (the stepper's Bresenham rounding).
+bool next_step_on(Steps p, Steps q, Steps s, Steps e) {
+  const long P[3] = {p.x, p.y, p.z}, Q[3] = {q.x, q.y, q.z}, S[3] = {s.x, s.y, s.z}, E[3] = {e.x, e.y, e.z};
+  int k = 0;
+  for (int i = 0; i < 3; ++i) {
+    const long d = Q[i] - P[i], D = E[i] - S[i];
+    if (std::labs(d) > 1 || (d != 0 && sign(d) != sign(D)) || std::labs(Q[i] - S[i]) > std::labs(D)) return false;
+    if (std::labs(D) > std::labs(E[k] - S[k])) k = i;
+  }
+  const double f = static_cast<double>(Q[k] - S[k]) / static_cast<double>(E[k] - S[k]);
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(static_cast<double>(Q[i] - S[i]) - f * static_cast<double>(E[i] - S[i])) > 1.0 + 1e-9) return false;
+  return true;
+}
+
+// Walks the step log block by block (see firmware_record.hpp).
+class StepWalker {
+ public:
+  explicit StepWalker(const StepLog& log) : log_(log) {}
+  Steps pos() const { return pos_; }
+  bool stalled() const { return stalled_; }
+  size_t next_step() const { return i_; }
+  // Steps from `limit` on belong to a later epoch; moves on to `from` (the steps skipped
+  // are returned: no block explained them).
+  size_t start_epoch(size_t from, size_t limit) {
+    size_t skipped = 0;
+    for (; i_ < from && i_ < log_.steps.size(); ++skipped) pos_ = log_.steps[i_++].pos;
+    limit_ = limit;
+    stalled_ = false;
+    return skipped;
+  }
+
+  // Advances along start -> end as far as the log shows. O(steps taken).
+  ExecutedBlock run(Steps start, Steps end) {
+    ExecutedBlock b;
+    b.start = b.stop = start;
+    b.planned.end = end;
+    b.steps_from = b.steps_to = i_;
+    if (stalled_ || !(pos_ == start)) {
+      stalled_ = true;
+      return b;
+    }
+    take_spindle_events();  // pen changes come between blocks
+    const double duty = duty_;
+    while (i_ < std::min(limit_, log_.steps.size()) && !(pos_ == end)) {
+      // In mid-block the pen may go up and down again (a feed hold that lifts it), but a
+      // pen that moves on changed is a reset's work: grbl stops the spindle.
+      take_spindle_events();
+      if (duty_ != duty || !next_step_on(pos_, log_.steps[i_].pos, start, end)) break;
+      pos_ = log_.steps[i_++].pos;
+    }
+    b.steps_to = i_;
+    b.stop = pos_;
+    if (i_ > b.steps_from) {
+      b.duty = duty;
+      b.t_start = log_.steps[b.steps_from].t;
+    }
+    if (pos_ == end) {
+      b.run = ExecutedBlock::Run::Complete;
+    } else {
+      b.run = i_ > b.steps_from ? ExecutedBlock::Run::Partial : ExecutedBlock::Run::NotRun;
+      stalled_ = true;  // the rest of the epoch never ran
+    }
+    return b;
+  }
+
+ private:
+  bool spindle_before(size_t step) const { return m_ < log_.spindle.size() && log_.spindle[m_].steps_before <= step; }
+  void take_spindle_events() {
+    while (spindle_before(i_)) duty_ = log_.spindle[m_++].duty;
+  }
+  const StepLog& log_;
+  size_t i_ = 0, m_ = 0, limit_ = std::numeric_limits<size_t>::max();
+  Steps pos_;
+  double duty_ = 0;
+  bool stalled_ = false;
+};
+
+// Block times and rests, once every block of the session is walked: a block began at
+// rest if nothing moved for longer than a stop and restart take (two first steps) plus
+// grbl's idle lock, which it waits out whenever its planner empties.
+void time_blocks(SessionRecord& r, const MachineSettings& s) {
+  const StepLog& L = r.step_log;
+  long prev = -1;  // the last block that moved
+  for (size_t k = 0; k < r.blocks.size(); ++k) {
+    ExecutedBlock& b = r.blocks[k];
+    if (b.steps_to == b.steps_from) continue;
+    const double t1 = first_step_s(b.start, b.planned.end, s);
+    bool from_rest = true;
+    if (prev >= 0) {
+      ExecutedBlock& p = r.blocks[static_cast<size_t>(prev)];
+      const double gap = L.steps[b.steps_from].t - L.steps[p.steps_to - 1].t;
+      const double t0 = first_step_s(p.start, p.planned.end, s);
+      from_rest = gap > t0 + t1 + 0.2e-3 * std::min(s.idle_lock_ms, 25.0) || p.epoch != b.epoch;
+      if (from_rest && p.run == ExecutedBlock::Run::Complete) {
+        p.rest_after = true;
+        p.t_end = L.steps[p.steps_to - 1].t + t0;
+        if (p.epoch == b.epoch) r.rests.push_back({static_cast<size_t>(prev), p.t_end, L.steps[b.steps_from].t - t1});
+      }
+    }
+    b.t_start = L.steps[b.steps_from].t - (from_rest ? t1 : 0);
+    prev = static_cast<long>(k);
+  }
+  if (prev >= 0) {  // the last block that moved ends at rest, unless a cut stopped it
+    ExecutedBlock& p = r.blocks[static_cast<size_t>(prev)];
+    if (p.run == ExecutedBlock::Run::Complete) {
+      p.rest_after = true;
+      p.t_end = L.steps[p.steps_to - 1].t + first_step_s(p.start, p.planned.end, s);
+    }
+  }
+}
+
+// "<Idle|MPos:1.000,2.000,0.000|..." -> steps; false if it is no status report with MPos.
+bool status_position(const std::string& text, const MachineSettings& s, Steps& out) {
+  const size_t at = text.find("MPos:");
+  double v[3];
+  if (text.empty() || text[0] != '<' || at == std::string::npos ||
+      std::sscanf(text.c_str() + at + 5, "%lf,%lf,%lf", &v[0], &v[1], &v[2]) != 3)
+    return false;
+  out = {std::lround(v[0] * s.steps_per_mm[0]), std::lround(v[1] * s.steps_per_mm[1]), std::lround(v[2] * s.steps_per_mm[2])};
+  return true;
+}
+
+// The first step index >= from after which the machine stands at p (from itself if it
+// stands there already); npos if none.
+size_t first_at(const StepLog& L, size_t from, Steps p) {
+  for (size_t i = from; i <= L.steps.size(); ++i)
+    if ((i == 0 ? Steps{} : L.steps[i - 1].pos) == p) return i;
+  return std::string::npos;
+}
+
+// Where each reset of the session falls in the step log: the index of the first step
+// after it (see build_session). npos where the status reports do not tell.
+std::vector<size_t> reset_steps(const StepLog& L, const std::vector<SessionEvent>& events,
+                                const std::vector<DeviceLine>& device, const MachineSettings& s) {
+  std::vector<size_t> out;
+  size_t anchor = 0, scanned = 0;  // step index of the last status report placed; device lines read
+  bool booted = false;
+  for (const SessionEvent& ev : events) {
+    if (ev.kind != SessionEvent::Kind::Reset) continue;
+    for (; scanned < ev.device && scanned < device.size(); ++scanned) {
+      Steps p;
+      if (!status_position(device[scanned].text, s, p)) continue;
+      const size_t i = first_at(L, anchor, p);
+      if (i != std::string::npos) anchor = i;
+    }
+    if (!booted) {  // the boot banner: the log begins there
+      booted = true;
+      continue;
+    }
+    size_t at = std::string::npos;
+    for (size_t k = ev.device + 1; k < device.size(); ++k) {
+      Steps p;
+      if (status_position(device[k].text, s, p)) {
+        at = first_at(L, anchor, p);
         break;
       }
-  }
-  return at;
-}
-
-// The motion of blocks [first, last) ended at `stop` (a reset's position, or the last
-// line before a power cut), on block `from` or later. Returns false if `stop` is on none.
-bool settle(std::vector<ExecutedBlock>& b, size_t from, size_t last, Steps stop) {
-  for (size_t j = from; j < last; ++j) {
-    const bool at_end = stop == b[j].planned.end;
-    if (!at_end && !on_segment(stop, b[j].start, b[j].planned.end)) continue;
-    if (!at_end) {
-      b[j].run = stop == b[j].start ? ExecutedBlock::Run::NotRun : ExecutedBlock::Run::Partial;
-      b[j].stop = stop;
+      if (device[k].text.rfind("Grbl ", 0) == 0) break;  // another reset first
     }
-    for (size_t k = j + 1; k < last; ++k) {
-      b[k].run = ExecutedBlock::Run::NotRun;
-      b[k].stop = b[k].start;
-    }
-    return true;
-  }
-  return false;
-}
-
-// Path length (mm) from `pos` on block `on` to the end of block `to`.
-double path_left(const std::vector<ExecutedBlock>& b, long on, size_t to, Steps pos, const MachineSettings& s) {
-  if (on < 0 || static_cast<size_t>(on) > to) return length_mm(pos, b[to].planned.end, s);
-  double d = length_mm(pos, b[static_cast<size_t>(on)].planned.end, s);
-  for (size_t i = static_cast<size_t>(on) + 1; i <= to; ++i) d += length_mm(b[i].start, b[i].planned.end, s);
-  return d;
-}
-
-// The machine decelerates to rest over what the planner had prepared: t = sqrt(2 d / a).
-double rest_time(double t_emptied, double d_mm, const ExecutedBlock& last, const MachineSettings& s) {
-  return t_emptied + std::sqrt(2 * d_mm / block_accel(last.start, last.planned.end, s));
-}
-
-}  // namespace
-
-std::string describe(const SessionRecord& s, const MachineSettings& m) {
-  std::string out = "session " + std::to_string(s.index) + (s.power_cut ? " (power cut)" : "") + ": " +
-                    std::to_string(s.blocks.size()) + " blocks\n";
-  char b[200];
-  const char* run[] = {"not run", "partial", "complete"};
-  for (size_t k = 0; k < s.blocks.size(); ++k) {
-    const ExecutedBlock& x = s.blocks[k];
-    std::snprintf(b, sizeof b, "%4zu e%d to %8.2f %8.2f %6.2f flags %2u S%-5.0f %-8s start %9.5f end %9.5f%s\n", k, x.epoch,
-                  x.planned.end.x / m.steps_per_mm[0], x.planned.end.y / m.steps_per_mm[1],
-                  x.planned.end.z / m.steps_per_mm[2], x.planned.condition, x.planned.spindle,
-                  run[static_cast<int>(x.run)], x.t_start, x.t_end, x.rest_after ? " rest" : "");
-    out += b;
+    out.push_back(at);
+    if (at != std::string::npos) anchor = at;
   }
   return out;
 }
 
-BlockLog parse_block_log(const std::string& text) {
-  BlockLog bl;
-  for (const std::string& l : split_lines(text)) {
-    if (l.empty()) continue;
-    ResetMark r;
-    if (std::sscanf(l.c_str(), "# reset at %lf pos %ld, %ld, %ld", &r.t, &r.pos.x, &r.pos.y, &r.pos.z) == 4) {
-      bl.resets.push_back(r);
-      bl.epochs.emplace_back();
-      continue;
-    }
-    if (l.rfind("# rx drop", 0) == 0) {
-      ++bl.rx_drops;
-      continue;
-    }
-    if (l[0] == '#') continue;
-    PlannedBlock b;
-    if (std::sscanf(l.c_str(), "%ld, %ld, %ld, %lf, %u, %lf, %lf", &b.end.x, &b.end.y, &b.end.z, &b.entry_speed_sqr,
-                    &b.condition, &b.spindle, &b.mm_logged) != 7)
-      continue;
-    // The logger walks grbl's ring buffer from the last block it printed to the head; when
-    // it runs between a reset's plan_reset() (which zeroes the buffer and moves the head to
-    // 0) and the banner that tells it of the reset, it prints the zeroed slots it passes.
-    // grbl never plans a block without steps, so a zeroed one is that and nothing else.
-    if (b.mm_logged == 0 && b.condition == 0 && b.spindle == 0 && b.entry_speed_sqr == 0) {
-      ++bl.zeroed_slots;
-      continue;
-    }
-    if (bl.epochs.empty()) {  // a log that starts without its boot line
-      bl.resets.push_back({});
-      bl.epochs.emplace_back();
-    }
-    bl.epochs.back().push_back(b);
-  }
-  return bl;
-}
-
-StepLog parse_step_log(const std::string& text, double sample_s, bool moving_at_end, bool exit_line) {
-  StepLog sl;
-  for (const std::string& l : split_lines(text)) {
-    StepLine x;
-    if (!l.empty() && l[0] != '#' &&
-        std::sscanf(l.c_str(), "%lf %ld, %ld, %ld, %d", &x.t, &x.pos.x, &x.pos.y, &x.pos.z, &x.spindle_pwm) == 5)
-      sl.lines.push_back(x);
-  }
-  if (exit_line && !sl.lines.empty()) sl.lines.pop_back();
-  const double gap = 1.5 * sample_s;
-  for (size_t i = 0; i + 1 < sl.lines.size(); ++i)
-    if (sl.lines[i + 1].t - sl.lines[i].t > gap)
-      sl.empties.push_back({sl.lines[i].t, sl.lines[i].pos, sl.lines[i + 1].t, sl.lines[i + 1].pos});
-  if (!moving_at_end && !sl.lines.empty()) sl.empties.push_back({sl.lines.back().t, sl.lines.back().pos, -1, {}});
-  sl.ends_moving = moving_at_end;
-  return sl;
-}
-
-namespace {
-
-size_t line_at(const std::vector<StepLine>& l, double t) {
-  return static_cast<size_t>(std::lower_bound(l.begin(), l.end(), t, [](const StepLine& x, double v) { return x.t < v; }) -
-                             l.begin());
-}
-
-// Rests of one epoch: where the planner ran dry, which block the machine then stopped at
-// (or was still on when the next block came), and when.
-void find_rests(SessionRecord& r, size_t first, size_t last, size_t lo, size_t hi, const std::vector<long>& at,
-                const MachineSettings& s) {
-  const std::vector<StepLine>& L = r.step_log.lines;
-  for (const PlannerEmpty& e : r.step_log.empties) {
-    size_t i = line_at(L, e.t_emptied);
-    if (i < lo || i >= hi) continue;
-    const long on = at[i - lo];
-    const size_t from = on < 0 ? first : static_cast<size_t>(on);
-    const bool resumed = e.t_resumed >= 0 && line_at(L, e.t_resumed) < hi;
-    // The machine stopped at the end of the last block that ran, or where it moved off again.
-    size_t kr = last;
-    bool full = false;
-    for (size_t j = from; j < last; ++j) {
-      if (r.blocks[j].run == ExecutedBlock::Run::NotRun) break;
-      if (resumed ? e.pos_resumed == r.blocks[j].planned.end : r.blocks[j].run == ExecutedBlock::Run::Complete &&
-                                                                 (j + 1 == last || r.blocks[j + 1].run == ExecutedBlock::Run::NotRun)) {
-        kr = j;
-        full = true;
-        break;
-      }
-      if (resumed && on_segment(e.pos_resumed, r.blocks[j].start, r.blocks[j].planned.end)) {
-        kr = j;
-        break;
-      }
-    }
-    if (kr == last) {
-      if (resumed) r.ambiguous_cut = true;
-      continue;
-    }
-    ExecutedBlock& b = r.blocks[kr];
-    double t_stop = -1;
-    if (full) {
-      b.rest_after = true;
-      b.t_end = t_stop = rest_time(e.t_emptied, path_left(r.blocks, on, kr, e.pos_emptied, s), b, s);
-    }
-    if (resumed && kr + 1 < last) {
-      r.rests.push_back({kr, full, t_stop, e.t_resumed});
-      if (full) r.blocks[kr + 1].t_start = e.t_resumed;
-    }
-  }
-}
-
 }  // namespace
 
-// O(blocks + step-log lines), the alignment aside.
-SessionRecord build_session(const BlockLog& bl, const StepLog& sl, const MachineSettings& s, bool power_cut,
-                            double cut_idle_wall_s) {
-  SessionRecord r;
-  r.power_cut = power_cut;
-  r.cut_idle_wall_s = cut_idle_wall_s;
-  r.block_log = bl;
-  r.step_log = sl;
-  const std::vector<StepLine>& L = r.step_log.lines;
-  for (size_t e = 0; e < bl.epochs.size(); ++e) {
-    const double t_next = e + 1 < bl.resets.size() ? bl.resets[e + 1].t : kInf;
-    Steps start = bl.resets[e].pos;
-    const size_t first = r.blocks.size();
-    for (const PlannedBlock& p : bl.epochs[e]) {
-      ExecutedBlock x;
-      x.planned = p;
-      x.start = start;
-      x.stop = p.end;
-      x.epoch = static_cast<int>(e);
-      x.run = ExecutedBlock::Run::Complete;  // unless the epoch ended early (below)
-      start = p.end;
-      r.blocks.push_back(x);
+StepLog parse_step_log(const std::string& text) {
+  StepLog log;
+  const char* p = text.c_str();
+  const char* end = p + text.size();
+  while (p < end) {
+    const char* nl = static_cast<const char*>(std::memchr(p, '\n', static_cast<size_t>(end - p)));
+    if (!nl) break;  // a line cut short (the log is taken while grbl_avr writes it)
+    std::string line(p, nl);
+    p = nl + 1;
+    if (line.empty() || line[0] == '#') continue;
+    double t = 0;
+    long x = 0, y = 0, z = 0;
+    char axes[8];
+    if (line[0] == 'P' && std::sscanf(line.c_str(), "P %lf %7s %ld %ld %ld", &t, axes, &x, &y, &z) == 5) {
+      log.steps.push_back({t, {x, y, z}});
+    } else if (line[0] == 'M') {
+      double duty = 0;
+      if (std::sscanf(line.c_str(), "M %lf duty=%lf", &t, &duty) == 2) log.spindle.push_back({t, duty, log.steps.size()});
+    } else if (line[0] == 'E' && std::sscanf(line.c_str(), "E %lf %ld %ld %ld", &t, &x, &y, &z) == 4) {
+      log.ended = true;
+      log.t_end = t;
+      log.end_pos = {x, y, z};
     }
-    const size_t last = r.blocks.size();
-    const size_t lo = line_at(L, bl.resets[e].t), hi = line_at(L, t_next);
-    const std::vector<long> at = align_lines(r.blocks, first, last, L, lo, hi);
-    long reached = static_cast<long>(first);
-    for (long k : at) reached = std::max(reached, k);
-    if (e + 1 < bl.resets.size()) {  // a reset: grbl stopped where its reset line says
-      if (!settle(r.blocks, static_cast<size_t>(reached), last, bl.resets[e + 1].pos)) r.ambiguous_cut = true;
-    } else if (power_cut) {
-      if (hi > lo && r.step_log.ends_moving) {
-        if (!settle(r.blocks, static_cast<size_t>(reached), last, L[hi - 1].pos)) r.ambiguous_cut = true;
-      } else if (hi > lo && cut_idle_wall_s < 0.3) {
-        r.ambiguous_cut = true;  // cut while the last prepared segments may still have been running
-      } else if (hi == lo && first < last) {
-        settle(r.blocks, first, last, bl.resets[e].pos);  // planned, never started
-      }
-    }
-    if (hi > lo && first < last && L[lo].pos == r.blocks[first].start) r.blocks[first].t_start = L[lo].t;
-    find_rests(r, first, last, lo, hi, at, s);
   }
+  return log;
+}
+
+std::string describe(const SessionRecord& s, const MachineSettings& m) {
+  std::string out = "session " + std::to_string(s.index) + (s.power_cut ? " (power cut)" : "") + ": " +
+                    std::to_string(s.blocks.size()) + " blocks, " + std::to_string(s.step_log.steps.size()) + " steps\n";
+  char b[200];
+  const char* run[] = {"not run", "partial", "complete"};
+  for (size_t k = 0; k < s.blocks.size(); ++k) {
+    const ExecutedBlock& x = s.blocks[k];
+    std::snprintf(b, sizeof b, "%4zu e%d to %8.2f %8.2f %6.2f%s duty %5.3f %-8s start %9.5f end %9.5f%s\n", k, x.epoch,
+                  x.planned.end.x / m.steps_per_mm[0], x.planned.end.y / m.steps_per_mm[1],
+                  x.planned.end.z / m.steps_per_mm[2], x.planned.rapid ? " G0" : " G1", x.duty,
+                  run[static_cast<int>(x.run)], x.t_start, x.t_end, x.rest_after ? " rest" : "");
+    out += b;
+  }
+  for (const std::string& p : s.problems) out += "  problem: " + p + "\n";
+  return out;
+}
+
+SessionRecord build_session(const StepLog& log, const std::vector<HostLine>& lines, const std::vector<SessionEvent>& events,
+                            const MachineSettings& s, const std::vector<DeviceLine>& device) {
+  SessionRecord r;
+  r.step_log = log;
+  r.events = events;
+  const std::vector<size_t> resets = reset_steps(r.step_log, events, device, s);
+  GcodeInterpreter g(s, PenRule::servo());  // the pen rule plays no part in where grbl moves
+  StepWalker walk(r.step_log);
+  int epoch = -1;
+  for (const SessionEvent& ev : events) {
+    if (ev.kind == SessionEvent::Kind::Reset) {
+      ++epoch;
+      const size_t e = static_cast<size_t>(epoch);
+      const size_t from = e > 0 && e - 1 < resets.size() && resets[e - 1] != std::string::npos ? resets[e - 1] : 0;
+      const size_t limit = e < resets.size() && resets[e] != std::string::npos ? resets[e] : std::numeric_limits<size_t>::max();
+      if (e > 0 && e - 1 < resets.size() && resets[e - 1] == std::string::npos)
+        r.problems.push_back("reset " + std::to_string(e) + ": no status report placed it in the step log");
+      if (const size_t skipped = walk.start_epoch(from, limit))
+        r.problems.push_back(std::to_string(skipped) + " steps before reset " + std::to_string(e) + " follow no planned block");
+      r.epoch_start.push_back(walk.pos());  // grbl keeps its position across a soft reset
+      g.reset(walk.pos());
+      continue;
+    }
+    const HostLine& l = lines[ev.line];
+    if (l.reply != HostLine::Reply::Ok) continue;
+    LineEffect e;
+    try {
+      e = g.feed(l.text);
+    } catch (const std::exception& ex) {
+      r.problems.push_back("line `" + l.text + "`: " + ex.what());
+      continue;
+    }
+    if (!e.motion || e.from == e.to) continue;
+    ExecutedBlock b = walk.run(e.from, e.to);
+    b.planned.rapid = e.rapid;
+    b.epoch = epoch;
+    r.blocks.push_back(b);
+  }
+  if (walk.next_step() < r.step_log.steps.size())
+    r.problems.push_back(std::to_string(r.step_log.steps.size() - walk.next_step()) + " steps after step " +
+                         std::to_string(walk.next_step()) + " follow no planned block");
+  time_blocks(r, s);
   return r;
 }
 
@@ -281,19 +304,24 @@ Steps plus(Steps a, Steps o) { return {a.x + o.x, a.y + o.y, a.z + o.z}; }
 
 std::string str(Steps p) { return std::to_string(p.x) + "," + std::to_string(p.y) + "," + std::to_string(p.z); }
 
-// The block grbl planned for a move must start and end where the line does, and carry the
-// pen state (servo: spindle flags and S) the line ran with.
+bool duty_down(double duty, const PenRule& rule, const MachineSettings& m) {
+  return duty * m.spindle_max > rule.servo_up_s + m.spindle_max / 255;
+}
+
+// The block a move planned must start and end where the line does; for a servo pen the
+// firmware's own pen output while it ran must agree with the pen the lines set.
 void check_block(const ExecutedBlock& b, size_t index, const LineEffect& e, bool pen_down, const PenRule& rule,
-                 const std::string& at, Interpretation& out) {
+                 const MachineSettings& m, const std::string& at, Interpretation& out) {
   if (!(b.start == e.from) || !(b.planned.end == e.to))
     out.inconsistencies.push_back(at + ": block " + std::to_string(index) + " runs " + str(b.start) + " to " +
                                   str(b.planned.end) + ", the line " + str(e.from) + " to " + str(e.to));
-  if (rule.kind == PenRule::Kind::Servo && (b.planned.spindle_on() && b.planned.spindle > rule.servo_up_s) != pen_down)
-    out.inconsistencies.push_back(at + ": the block's spindle flags disagree with the pen state");
+  if (rule.kind == PenRule::Kind::Servo && b.duty >= 0 && duty_down(b.duty, rule, m) != pen_down)
+    out.inconsistencies.push_back(at + ": the firmware's pen output (duty " + std::to_string(b.duty) +
+                                  ") disagrees with the pen the lines set");
 }
 
-// Each time the planner ran dry with more to come: at a line that makes grbl empty it, or
-// starved (the next move had not arrived).
+// Each rest with more of the epoch to come: at a line that makes grbl empty its planner,
+// or starved (the next move had not arrived).
 void classify_rests(const SessionRecord& s, const std::vector<bool>& sync_after, Interpretation& out) {
   size_t last_sync = 0;
   for (const RestEvent& rest : s.rests) {
@@ -302,7 +330,7 @@ void classify_rests(const SessionRecord& s, const std::vector<bool>& sync_after,
       ++out.rests_at_sync;
       last_sync = rest.block + 1;
     } else {
-      const double still = rest.full_stop ? std::max(0.0, rest.t_resume - rest.t_stop) : 0.0;
+      const double still = std::max(0.0, rest.t_resume - rest.t_stop);
       ++out.rests_starved;
       out.starved_s += still;
       out.starved.push_back({s.index, rest.block, rest.block + 1 - last_sync, still});
@@ -317,37 +345,18 @@ void interpret_session(const FirmwareRecord& r, const SessionRecord& s, const Pe
   GcodeInterpreter g(r.settings, rule);
   g.reset({});
   MarkCollector pen(rule, r.settings.steps_per_mm[2]);
-  std::vector<Mark> marks;
   std::vector<long> block_line(s.blocks.size(), -1);
   std::vector<bool> sync_after(s.blocks.size(), false);
-  auto flush_marks = [&] {
-    pen.finish();
-    for (Mark m : pen.marks()) marks.push_back({m.kind, plus(m.a, offset), plus(m.b, offset)});
-    pen = MarkCollector(rule, r.settings.steps_per_mm[2]);
-  };
   int epoch = -1;
-  size_t cursor = 0;  // next block of the epoch
-  auto epoch_end = [&] {
-    size_t e = cursor;
-    while (e < s.blocks.size() && s.blocks[e].epoch == epoch) ++e;
-    return e;
-  };
-  auto unclaimed = [&] {
-    for (size_t e = epoch_end(); cursor < e; ++cursor)
-      out.inconsistencies.push_back("session " + std::to_string(s.index) + ": block " + std::to_string(cursor) +
-                                    " was planned but no line explains it");
-  };
-  Steps physical;  // where the machine is (end of the last move that ran)
+  size_t cursor = 0;  // next block
+  Steps physical;     // where the machine is (where the last move that ran stopped)
+  for (const std::string& p : s.problems) out.inconsistencies.push_back("session " + std::to_string(s.index) + ": " + p);
   for (const SessionEvent& ev : s.events) {
     if (ev.kind == SessionEvent::Kind::Reset) {
-      if (epoch >= 0) unclaimed();
       ++epoch;
-      // grbl-sim flushes a reset line with the next block it logs: a reset with no move
-      // after it may not be in the file yet. grbl keeps its position across a soft reset.
-      if (static_cast<size_t>(epoch) < s.block_log.resets.size()) physical = s.block_log.resets[static_cast<size_t>(epoch)].pos;
+      if (static_cast<size_t>(epoch) < s.epoch_start.size()) physical = s.epoch_start[static_cast<size_t>(epoch)];
       pen.pen(false, physical);  // the spindle stops at a reset
       g.reset(physical);
-      while (cursor < s.blocks.size() && s.blocks[cursor].epoch < epoch) ++cursor;
       continue;
     }
     const HostLine& l = r.lines[ev.line];
@@ -355,21 +364,18 @@ void interpret_session(const FirmwareRecord& r, const SessionRecord& s, const Pe
     LineEffect e;
     try {
       e = g.feed(l.text);
-    } catch (const std::exception& ex) {
-      out.inconsistencies.push_back(where(s, ev.line, l) + ": " + ex.what());
-      continue;
+    } catch (const std::exception&) {
+      continue;  // build_session reported it
     }
-    if (e.sync || e.system) {
-      if (cursor > 0 && cursor - 1 < s.blocks.size()) sync_after[cursor - 1] = true;
-    }
+    if ((e.sync || e.system) && cursor > 0) sync_after[cursor - 1] = true;
     if (e.pen_before >= 0) pen.pen(e.pen_before == 1, physical);
     if (e.motion && !(e.from == e.to)) {
-      if (cursor >= s.blocks.size() || s.blocks[cursor].epoch != epoch) {
+      if (cursor >= s.blocks.size()) {
         out.inconsistencies.push_back(where(s, ev.line, l) + ": a move with no planner block");
         continue;
       }
       const ExecutedBlock& b = s.blocks[cursor];
-      check_block(b, cursor, e, g.pen_down(), rule, where(s, ev.line, l), out);
+      check_block(b, cursor, e, g.pen_down(), rule, r.settings, where(s, ev.line, l), out);
       block_line[cursor] = static_cast<long>(ev.line);
       if (b.run != ExecutedBlock::Run::NotRun) {
         pen.move(b.start, b.stop, b.run == ExecutedBlock::Run::Complete);
@@ -379,13 +385,31 @@ void interpret_session(const FirmwareRecord& r, const SessionRecord& s, const Pe
     }
     if (e.pen_after >= 0) pen.pen(e.pen_after == 1, physical);
   }
-  if (epoch >= 0) unclaimed();
-  if (epoch + 1 < static_cast<int>(s.block_log.resets.size()))
-    out.inconsistencies.push_back("session " + std::to_string(s.index) + ": fewer banners than reset lines in the block log");
-  flush_marks();
-  out.marks.insert(out.marks.end(), marks.begin(), marks.end());
+  pen.finish();
+  for (Mark m : pen.marks()) {
+    out.marks.push_back({m.kind, plus(m.a, offset), plus(m.b, offset)});
+    if (m.kind != Mark::Kind::Dot) out.pen_down_mm += length_mm(m.a, m.b, r.settings);
+  }
   classify_rests(s, sync_after, out);
   out.block_line.push_back(std::move(block_line));
+}
+
+// The first and the last block of a session that moved (nulls when none did).
+std::pair<const ExecutedBlock*, const ExecutedBlock*> executed_span(const SessionRecord& s) {
+  const ExecutedBlock *first = nullptr, *last = nullptr;
+  for (const ExecutedBlock& b : s.blocks)
+    if (b.run != ExecutedBlock::Run::NotRun) {
+      if (!first) first = &b;
+      last = &b;
+    }
+  return {first, last};
+}
+
+const SessionRecord* last_session_that_moved(const FirmwareRecord& r, int session) {
+  const SessionRecord* s = nullptr;
+  for (const SessionRecord& c : r.sessions)
+    if (executed_span(c).first && (session < 0 || c.index == session)) s = &c;
+  return s;
 }
 
 }  // namespace
@@ -397,47 +421,23 @@ Interpretation interpret(const FirmwareRecord& r, const PenRule& rule, const std
   return out;
 }
 
-namespace {
-// The first and the last block of a session that ran (nulls when none did).
-std::pair<const ExecutedBlock*, const ExecutedBlock*> executed_span(const SessionRecord& s) {
-  const ExecutedBlock *first = nullptr, *last = nullptr;
-  for (const ExecutedBlock& b : s.blocks)
-    if (b.run != ExecutedBlock::Run::NotRun) {
-      if (!first) first = &b;
-      last = &b;
-    }
-  return {first, last};
-}
-}  // namespace
-
 double firmware_plot_seconds(const FirmwareRecord& r, const PenRule& rule, int session) {
-  const SessionRecord* s = nullptr;
-  if (session >= 0) {
-    s = &r.sessions.at(static_cast<size_t>(session));
-  } else {
-    for (const SessionRecord& c : r.sessions)
-      for (const ExecutedBlock& b : c.blocks)
-        if (b.run != ExecutedBlock::Run::NotRun) s = &c;
-  }
+  const SessionRecord* s = last_session_that_moved(r, session);
   if (!s) return 0;
   const auto [first, last] = executed_span(*s);
-  if (!first) return 0;
-  const PlannedBlock& p = last->planned;
-  bool pen_up = rule.kind == PenRule::Kind::ZAxis ? p.end.z >= rule.z_down_below_mm * r.settings.steps_per_mm[2]
-                                                  : !(p.spindle_on() && p.spindle > rule.servo_up_s);
-  bool home = pen_up && p.end.x == 0 && p.end.y == 0 && last != first && last->t_start >= 0;
-  double end = home ? last->t_start : last->t_end;
+  const Steps e = last->planned.end;
+  const bool pen_up = rule.kind == PenRule::Kind::ZAxis ? e.z >= rule.z_down_below_mm * r.settings.steps_per_mm[2]
+                                                        : !duty_down(last->duty, rule, r.settings);
+  const bool home = pen_up && e.x == 0 && e.y == 0 && last != first && last->t_start >= 0;
+  const double end = home ? last->t_start : last->t_end;
   return end - first->t_start;
 }
 
 double firmware_motion_seconds(const FirmwareRecord& r, int session) {
-  const SessionRecord* s = nullptr;
-  for (const SessionRecord& c : r.sessions)
-    for (const ExecutedBlock& b : c.blocks)
-      if (b.run != ExecutedBlock::Run::NotRun && (session < 0 || c.index == session)) s = &c;
+  const SessionRecord* s = last_session_that_moved(r, session);
   if (!s) return 0;
   const auto [first, last] = executed_span(*s);
-  if (!first || last->t_end < 0 || first->t_start < 0) return -1;
+  if (last->t_end < 0 || first->t_start < 0) return -1;
   return last->t_end - first->t_start;
 }
 

@@ -1,28 +1,22 @@
 #pragma once
-// What the real firmware did, read from grbl-sim's own logs and the relay's transcript.
-// What each source proves:
+// What the real firmware did, read from grbl_avr's step log and the relay's transcript.
+// grbl_avr (../shared/validators/grbl-avr) runs grbl 1.1h's AVR binary on simavr, one
+// instruction at a time, and logs from the chip's pins with simulated time stamps:
 //
-// Block log (grbl_sim -b; build.sh patch 5): one line per planner block in the order
-//   grbl PLANNED them: end position (steps), entry_speed_sqr as first planned (grbl may
-//   raise it later), condition flags (1 rapid, 16 spindle CW, 32 CCW), spindle speed, and
-//   the block's remaining mm when it was logged (less than its length when the stepper had
-//   already begun it, so lengths come from the positions). "# reset at T pos x, y, z" at
-//   every boot and soft reset: its only time stamps. "# rx drop" when the host overfilled
-//   grbl's RX buffer. A block here was accepted, which proves nothing about it having run:
-//   a reset or a power cut empties the planner.
-// Step log (grbl_sim's stderr, with -r R): the position (steps) and spindle PWM every R
-//   simulated seconds while the planner has a block being prepared, a line at every change
-//   of that block the simulator notices, and "# block number N" after it. No line while
-//   the planner is empty (dwells, pen changes, idle), so a pause longer than R between two
-//   lines is the planner running dry: the first line is where the machine was then, the
-//   second where it moved off again (exactly at rest, if it had stopped). The headers are
-//   no block index: the simulator looks once a tick and grbl's main loop (a thread) can
-//   prepare several short blocks in between, so which block ran, and how far, is read
-//   from the positions along the planned path. The moment motion stops is the planner's
-//   emptying plus the deceleration over the distance still left (a few ms of kinematics).
-// Transcript (the relay): every line grbl received and its reply, in order. "ok" for a
-//   move means planned; for M3/M5/G4 it means done (grbl empties its planner first), so a
-//   servo pen's dots, which make no planner block, are proved by the transcript alone.
+// Step log (grbl_avr -s): "P t AXES x y z" at every step pulse's leading edge (the counts
+//   after it, = grbl's sys_position), "M t duty=..." whenever the spindle/pen output
+//   (PB3, OC2A) changes, "E t x y z" at a clean exit. Every step the motors took is here,
+//   so where the machine went, and when, is exact; a power cut (grbl_avr stopped by
+//   SIGTERM) leaves the log complete up to the cut.
+// Transcript (the relay): every line grbl received and its reply, in order, and grbl's
+//   banners (boot and soft reset). "ok" for a move means planned (grbl plans exactly one
+//   block per move of at least one step); for M3/M5/G4 it means done (grbl empties its
+//   planner first). Replaying the answered lines through grbl's G-code model gives the
+//   blocks grbl planned, in order; walking the step log along them tells which ran, how
+//   far and when. The log has no block boundaries of its own: a step belongs to the block
+//   being walked while it moves towards that block's end within the stepper's Bresenham
+//   rounding; a step that does not, or a pen change in mid-block, ends the walk (a reset
+//   or a power cut stopped the block there).
 #include <limits>
 #include <string>
 #include <vector>
@@ -51,104 +45,91 @@ struct DeviceLine {
   bool forwarded = false;  // a client was connected and got it
 };
 
-// ---- block log ----
-struct PlannedBlock {
-  Steps end;
-  double entry_speed_sqr = 0;  // (mm/min)^2
-  unsigned condition = 0;
-  double spindle = 0;
-  double mm_logged = 0;
-  bool rapid() const { return condition & 1u; }
-  bool spindle_on() const { return condition & 48u; }
-};
-struct ResetMark {
-  double t = 0;
-  Steps pos;
-};
-struct BlockLog {
-  std::vector<ResetMark> resets;                  // resets[0]: the boot
-  std::vector<std::vector<PlannedBlock>> epochs;  // epochs[i]: blocks planned after resets[i]
-  size_t rx_drops = 0;
-  size_t zeroed_slots = 0;  // empty ring-buffer slots the logger printed at a reset (not blocks)
-};
-BlockLog parse_block_log(const std::string& text);  // O(text)
-
 // ---- step log ----
-struct StepLine {
-  double t = 0;
-  Steps pos;
-  int spindle_pwm = 0;
+struct StepEvent {
+  double t = 0;  // simulated seconds since power-on
+  Steps pos;     // after the step
 };
-// The planner ran dry: no line from t_emptied to t_resumed.
-struct PlannerEmpty {
-  double t_emptied = 0;
-  Steps pos_emptied;
-  double t_resumed = -1;  // -1: the log ends before motion resumed
-  Steps pos_resumed;
+struct SpindleEvent {
+  double t = 0;
+  double duty = 0;         // PWM duty while the PWM runs, else the pin level (0 or 1)
+  size_t steps_before = 0;  // how many step events came before it
 };
 struct StepLog {
-  std::vector<StepLine> lines;
-  std::vector<PlannerEmpty> empties;
-  bool ends_moving = false;  // the last line was written while a block was being prepared
+  std::vector<StepEvent> steps;
+  std::vector<SpindleEvent> spindle;
+  bool ended = false;  // an "E" line: grbl_avr exited cleanly (SIGTERM included), the log is whole
+  double t_end = 0;
+  Steps end_pos;
 };
-// `moving_at_end`: the log ended mid-motion (a power cut right after the last line).
-// `exit_line`: grbl-sim exited cleanly and printed its last position (dropped here).
-StepLog parse_step_log(const std::string& text, double sample_s, bool moving_at_end, bool exit_line = false);
+StepLog parse_step_log(const std::string& text);  // O(text)
 
 // ---- one firmware process ----
+// A block grbl planned: one per answered move of at least one step, in order.
+struct PlannedBlock {
+  Steps end;
+  bool rapid = false;
+};
 struct ExecutedBlock {
   enum class Run { NotRun, Partial, Complete };
   PlannedBlock planned;
-  Steps start;       // the previous block's end, or the reset position
+  Steps start;       // where the machine stood when grbl planned it to start
   Steps stop;        // where its motion stopped (= planned.end when Complete)
-  int epoch = 0;     // index into BlockLog::resets
+  int epoch = 0;     // resets seen before it in this session, less one (the boot)
   Run run = Run::NotRun;
-  double t_start = -1;  // when it began, if it began from rest (else -1: mid-motion)
-  double t_end = -1;    // when the machine came to rest at its end, if it did (else -1)
-  bool rest_after = false;  // the machine stopped at its end: the planner had run dry
+  double t_start = -1;  // simulated time its motion began (its first step, less the first step's
+                        // time from rest when it began at rest); -1 if it never moved
+  double t_end = -1;    // when it came to rest at its end, if it did (else -1: it ran on into the next)
+  bool rest_after = false;  // the machine stood still between this block and the next
+  double duty = -1;         // the pen output while it ran (-1: it never moved)
+  size_t steps_from = 0, steps_to = 0;  // its step events [from, to) in the step log
 };
 
-// The planner ran dry after `block` while more followed in the same epoch.
+// The machine stood still between `block` and the next block of the same epoch.
 struct RestEvent {
   size_t block = 0;
-  bool full_stop = false;  // the machine stopped; else a new block came before the last segments ran out
-  double t_stop = -1;      // when it stopped (full stops)
-  double t_resume = -1;    // when the next block began
+  double t_stop = -1;    // when it stopped
+  double t_resume = -1;  // when the next block began
 };
 
 struct SessionEvent {
   enum class Kind { Line, Reset } kind = Kind::Line;
-  size_t line = 0;  // index into FirmwareRecord::lines, in reply order
+  size_t line = 0;    // index into FirmwareRecord::lines, in reply order
+  size_t device = 0;  // a reset: its banner's index into FirmwareRecord::device
 };
 
 struct SessionRecord {
   int index = 0;
   bool power_cut = false;
-  double cut_idle_wall_s = 0;  // wall seconds between the step log's last write and the cut
-  bool ambiguous_cut = false;  // where the last move stopped could not be told from the log
-  BlockLog block_log;
+  size_t rx_overruns = 0;  // bytes simavr's UART dropped (the host overfilled grbl's RX buffer)
   StepLog step_log;
   std::vector<ExecutedBlock> blocks;  // every planned block, in order
-  std::vector<RestEvent> rests;       // planner ran dry with the epoch's next block still to come
+  std::vector<RestEvent> rests;       // the machine stood still with the epoch's next block still to come
   std::vector<SessionEvent> events;   // replies and resets, in grbl's order
+  std::vector<Steps> epoch_start;     // where the machine stood at each boot / reset
+  std::vector<std::string> problems;  // lines the model could not follow, steps no block explains
 };
 
-// One line per block: end (mm), flags, how far it ran, its times. For test failure messages.
+// One line per block: end (mm), how far it ran, its times. For test failure messages.
 std::string describe(const SessionRecord& s, const MachineSettings& m);
 
-// Joins a session's logs: which planned blocks ran, how far, and when.
-SessionRecord build_session(const BlockLog& bl, const StepLog& sl, const MachineSettings& s, bool power_cut,
-                            double cut_idle_wall_s);
+// Replays the answered lines of one session (its `events` into `lines`) to find the
+// blocks grbl planned, and walks the step log along them. A soft reset drops what grbl
+// had planned; where it fell in the step log is read from grbl's status reports (`device`,
+// in the order grbl sent them): the last one before the reset's banner says how far the
+// machine had got, the first one after it where the machine stood at the reset, and
+// the reset falls in the standstill that follows. O(lines + steps).
+SessionRecord build_session(const StepLog& log, const std::vector<HostLine>& lines, const std::vector<SessionEvent>& events,
+                            const MachineSettings& s, const std::vector<DeviceLine>& device = {});
 
 struct FirmwareRecord {
   MachineSettings settings;
-  double sample_s = 0.001;
   std::vector<SessionRecord> sessions;
   std::vector<HostLine> lines;
   std::vector<DeviceLine> device;
 };
 
-// The transcript replayed against the logs.
+// The transcript replayed against the walked blocks.
 struct Interpretation {
   std::vector<Mark> marks;  // what the pen drew, machine steps (plus each session's offset)
   std::vector<std::string> inconsistencies;  // transcript and logs disagree (a harness bug if any)
@@ -164,6 +145,7 @@ struct Interpretation {
     double standstill_s;
   };
   std::vector<Starved> starved;
+  double pen_down_mm = 0;  // pen-down path the firmware drew, from the step log
 };
 // `offsets[i]`: where session i's machine zero lies (power cuts: 0 = re-zeroed at the origin).
 // O(lines + blocks).

@@ -76,6 +76,8 @@ MachineSettings MachineSettings::parse(const std::string& text) {
     if (key >= 110 && key <= 112) s.max_rate_mm_min[key - 110] = v;
     if (key >= 120 && key <= 122) s.accel_mm_s2[key - 120] = v;
     if (key == 10) s.status_mask = static_cast<int>(v);
+    if (key == 30) s.spindle_max = v;
+    if (key == 1) s.idle_lock_ms = v;
     if (key == 20) s.soft_limits = v != 0;
     if (key == 22) s.homing = v != 0;
   }

@@ -22,6 +22,8 @@ struct MachineSettings {
   double max_rate_mm_min[3] = {500, 500, 500};  // $110-$112
   double accel_mm_s2[3] = {10, 10, 10};       // $120-$122
   int status_mask = 1;                        // $10: 2 adds Bf: (planner blocks, RX bytes free)
+  double spindle_max = 1000;                  // $30: the S that gives full PWM duty
+  double idle_lock_ms = 25;                   // $1: grbl's stepper idle delay when motion stops
   bool soft_limits = false, homing = false;   // $20, $22
   static MachineSettings parse(const std::string& text);
   static MachineSettings load(const std::string& path);

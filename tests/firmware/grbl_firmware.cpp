@@ -81,10 +81,9 @@ Pty open_pty() {
   return p;
 }
 
-// Starts grbl_sim.exe on `tty` (stdin and stdout) with its step log on stderr (unbuffered,
-// so every line is on disk the moment it is printed, even if the process is killed), in
-// its own session so that terminal signals of the test do not reach it.
-pid_t spawn_firmware(const std::vector<std::string>& args, int tty, int step_fd, const std::string& cwd) {
+// Starts grbl_avr on `tty` (stdin and stdout) with its messages in `err_fd`, in its own
+// session so that terminal signals of the test do not reach it.
+pid_t spawn_firmware(const std::vector<std::string>& args, int tty, int err_fd, const std::string& cwd) {
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
@@ -95,7 +94,7 @@ pid_t spawn_firmware(const std::vector<std::string>& args, int tty, int step_fd,
     ::setsid();
     ::dup2(tty, 0);
     ::dup2(tty, 1);
-    ::dup2(step_fd, 2);
+    ::dup2(err_fd, 2);
     if (::chdir(dir) != 0) ::_exit(126);
     ::syscall(SYS_close_range, 3u, ~0u, 0u);
     ::execv(argv[0], argv.data());
@@ -105,9 +104,8 @@ pid_t spawn_firmware(const std::vector<std::string>& args, int tty, int step_fd,
 }
 
 // Bytes waiting for one direction of the wire: held for `latency` (a USB-serial adapter's
-// frame and buffer delay), then sent no faster than a UART at `rate`. grbl-sim itself
-// takes bytes about 20 times faster than its baud rate (its byte time is 2 * UBRR + 1
-// cycles, doubled with U2X, where a UART needs 10 bits of 8 * (UBRR + 1) cycles).
+// frame and buffer delay), then sent no faster than a UART at `rate` (0: as fast as the
+// pty takes them; grbl_avr puts bytes on its simulated wire at 115200 baud itself).
 struct Paced {
   std::string q;
   double rate = 0;  // bytes per second; 0 = as fast as the pty takes them
@@ -148,33 +146,32 @@ struct Paced {
 
 struct SessionInfo {
   pid_t pid = -1;
-  std::string dir, block_path, step_path, tty;
+  std::string dir, step_path, err_path, tty;
   bool power_cut = false, exited = false;
-  double cut_idle_wall_s = 0;
   std::vector<SessionEvent> events;
 };
 
 }  // namespace
 
-std::string ensure_grbl_sim(const std::string& dir_in) {
+std::string ensure_grbl_avr(const std::string& dir_in) {
   static std::mutex mu;
   static std::set<std::string> built;
   std::lock_guard<std::mutex> lk(mu);
-  const std::string dir = dir_in.empty() ? std::string(STIPPLOT_GRBL_SIM_DIR) : dir_in;
-  const std::string exe = dir + "/bin/grbl_sim.exe";
+  const std::string dir = dir_in.empty() ? std::string(STIPPLOT_GRBL_AVR_DIR) : dir_in;
+  const std::string exe = dir + "/bin/grbl_avr";
   if (built.count(dir)) return exe;
   fs::create_directories(fs::path(dir).parent_path());
   int lock = ::open((dir + ".lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   if (lock < 0) throw std::runtime_error("cannot create " + dir + ".lock");
   ::flock(lock, LOCK_EX);
   const std::string log = dir + ".log";
-  const std::string cmd = "bash " + quoted(std::string(STIPPLOT_SHARED_DIR) + "/validators/grbl/build.sh") + " " +
+  const std::string cmd = "bash " + quoted(std::string(STIPPLOT_SHARED_DIR) + "/validators/grbl-avr/build.sh") + " " +
                           quoted(dir) + " >" + quoted(log) + " 2>&1";
   int rc = std::system(cmd.c_str());
   ::flock(lock, LOCK_UN);
   ::close(lock);
   if (rc != 0 || ::access(exe.c_str(), X_OK) != 0)
-    throw std::runtime_error("building grbl-sim failed (" + cmd + "):\n" + tail_of(slurp(log), 2000));
+    throw std::runtime_error("building grbl-avr failed (" + cmd + "):\n" + tail_of(slurp(log), 2000));
   built.insert(dir);
   return exe;
 }
@@ -376,7 +373,7 @@ void GrblFirmware::Impl::device_line(const std::string& text, bool forwarded) {
   } else if (text.rfind("Grbl ", 0) == 0) {  // boot or reset: grbl's buffers were emptied
     for (const Pending& q : pending) lines[q.line].reply = HostLine::Reply::Flushed;
     pending.clear();
-    s.events.push_back({SessionEvent::Kind::Reset, 0});
+    s.events.push_back({SessionEvent::Kind::Reset, 0, device.size() - 1});
   }
 }
 
@@ -400,16 +397,21 @@ void GrblFirmware::Impl::on_client(const char* p, size_t n) {
       trig_armed = false;
       trig_fired = true;
       deliver_unwritten();
-      if (trig_how == Cut::DropLink) drop_link_locked();
-      else power_cut_locked();
+      if (trig_how == Cut::DropLink) {
+        drop_link_locked();
+      } else {
+        // Let the line cross grbl_avr's simulated wire (87 us a byte) before the power goes.
+        std::this_thread::sleep_for(std::chrono::milliseconds(15));
+        power_cut_locked();
+      }
       return;  // the rest of the client's bytes were on the wire when it was cut
     }
   }
 }
 
 // A triggered cut comes right after the line that fired it reached grbl: write what the
-// relay still holds (up to that line's end) and wait until grbl-sim has read it from its
-// pty, at most 0.5 s.
+// relay still holds (up to that line's end) and wait until grbl_avr has read it from its
+// pty, at most 0.5 s. (grbl_avr then puts it on its simulated wire, 86.8 us a byte.)
 void GrblFirmware::Impl::deliver_unwritten() {
   if (a < 0 || cur < 0) return;
   auto end = Clock::now() + std::chrono::milliseconds(500);
@@ -450,15 +452,14 @@ void GrblFirmware::Impl::drop_link_locked() {
   poke();
 }
 
+// The board loses power: grbl_avr is frozen at once (SIGSTOP), the client hangs up, what
+// grbl had already written is read, then grbl_avr is told to stop (SIGTERM): it ends
+// within 1 ms of simulated time and writes its step log whole. Bytes it writes after the
+// freeze never reach anybody.
 void GrblFirmware::Impl::power_cut_locked() {
   if (cur < 0) return;
   SessionInfo& s = sessions[static_cast<size_t>(cur)];
-  if (s.pid > 0) ::kill(s.pid, SIGSTOP);  // motion stops here; the logs are final
-  struct stat st{};
-  timespec now_rt{};
-  ::clock_gettime(CLOCK_REALTIME, &now_rt);
-  if (::stat(s.step_path.c_str(), &st) == 0)
-    s.cut_idle_wall_s = std::max(0.0, double(now_rt.tv_sec - st.st_mtim.tv_sec) + 1e-9 * double(now_rt.tv_nsec - st.st_mtim.tv_nsec));
+  if (s.pid > 0) ::kill(s.pid, SIGSTOP);
   drop_link_locked();
   if (a >= 0) {  // replies the firmware wrote before it froze
     char buf[4096];
@@ -466,7 +467,8 @@ void GrblFirmware::Impl::power_cut_locked() {
     while ((r = ::read(a, buf, sizeof buf)) > 0) on_device(buf, static_cast<size_t>(r));
   }
   if (s.pid > 0) {
-    ::kill(s.pid, SIGKILL);
+    ::kill(s.pid, SIGTERM);
+    ::kill(s.pid, SIGCONT);
     ::waitpid(s.pid, nullptr, 0);
   }
   s.pid = -1;
@@ -502,19 +504,18 @@ void GrblFirmware::Impl::start_session(bool send_settings) {
   const size_t idx = sessions.size();
   s.dir = dir + "/session-" + std::to_string(idx);
   fs::create_directories(s.dir);
-  s.block_path = s.dir + "/blocks.txt";
   s.step_path = s.dir + "/steps.txt";
+  s.err_path = s.dir + "/stderr.txt";
   Pty pa = open_pty();
-  int step_fd = ::open(s.step_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (step_fd < 0) throw std::runtime_error("cannot create " + s.step_path);
-  char t[32], r[32];
+  int err_fd = ::open(s.err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (err_fd < 0) throw std::runtime_error("cannot create " + s.err_path);
+  char t[32];
   std::snprintf(t, sizeof t, "%g", opt.timescale);
-  std::snprintf(r, sizeof r, "%g", opt.sample_s);
-  // EEPROM.DAT lives in the work dir, so settings survive a power cut as on the board.
-  s.pid = spawn_firmware({exe, "-n", "-t", t, "-r", r, "-b", s.block_path}, pa.slave, step_fd, dir);
+  // The EEPROM image lives in the work dir, so settings survive a power cut as on the board.
+  s.pid = spawn_firmware({exe, "-t", t, "-s", s.step_path, "-e", dir + "/eeprom.bin"}, pa.slave, err_fd, dir);
   s.tty = pa.path;
   ::close(pa.slave);
-  ::close(step_fd);
+  ::close(err_fd);
   {
     std::unique_lock<std::mutex> lk(mu);
     sessions.push_back(s);
@@ -530,7 +531,7 @@ void GrblFirmware::Impl::start_session(bool send_settings) {
       return false;
     };
     if (!wait_for(lk, 20, booted))
-      throw std::runtime_error("grbl-sim printed no banner within 20 s (" + exe + ", log " + s.dir + ")");
+      throw std::runtime_error("grbl_avr printed no banner within 20 s (" + exe + ", log " + s.dir + ")");
   }
   if (settings_path.empty() || !send_settings) return;
   std::istringstream in(slurp(settings_path));
@@ -551,8 +552,7 @@ void GrblFirmware::Impl::start_session(bool send_settings) {
   }
 }
 
-// Ctrl-F: grbl-sim stops once idle, closing its files (EEPROM.DAT is a buffered file:
-// only a clean exit is sure to have written the last setting).
+// Ctrl-F: grbl_avr stops once grbl is idle, writing its EEPROM image and step log.
 void GrblFirmware::Impl::power_off_clean() {
   std::unique_lock<std::mutex> lk(mu);
   if (b >= 0) drop_link_locked();
@@ -560,7 +560,7 @@ void GrblFirmware::Impl::power_off_clean() {
   SessionInfo& s = sessions[static_cast<size_t>(cur)];
   to_a.push("\x06");
   poke();
-  if (!wait_for(lk, 20, [&] { return a < 0; })) throw std::runtime_error("grbl-sim did not exit after Ctrl-F");
+  if (!wait_for(lk, 20, [&] { return a < 0; })) throw std::runtime_error("grbl_avr did not exit after Ctrl-F");
   if (s.pid > 0) ::waitpid(s.pid, nullptr, 0);
   s.pid = -1;
 }
@@ -582,7 +582,7 @@ std::string GrblFirmware::Impl::open_client() {
 GrblFirmware::GrblFirmware(FirmwareOptions o) : impl_(std::make_unique<Impl>()) {
   Impl& I = *impl_;
   I.opt = o;
-  I.exe = ensure_grbl_sim();
+  I.exe = ensure_grbl_avr();
   if (!o.settings.empty()) {
     I.settings_path = settings_file(o.settings);
     I.settings = MachineSettings::load(I.settings_path);
@@ -618,8 +618,7 @@ GrblFirmware::Impl::~Impl() {
     I.poke();
   }
   if (I.relay.joinable()) I.relay.join();
-  // The logs are complete at any moment (block log flushed per block, step log
-  // unbuffered), so the firmware is simply killed.
+  // What the test needed of the logs it has read: the firmware is simply killed.
   for (SessionInfo& s : I.sessions) {
     if (s.pid <= 0) continue;
     ::kill(s.pid, SIGKILL);
@@ -749,6 +748,14 @@ std::string GrblFirmware::status(double timeout_s) {
   return got;
 }
 
+void GrblFirmware::inject(const std::string& bytes) {
+  Impl& I = *impl_;
+  std::lock_guard<std::mutex> lk(I.mu);
+  if (I.a < 0) throw std::runtime_error("the firmware is not running");
+  I.to_a.push(bytes);
+  I.poke();
+}
+
 void GrblFirmware::reset() {
   Impl& I = *impl_;
   std::unique_lock<std::mutex> lk(I.mu);
@@ -803,6 +810,14 @@ pid_t GrblFirmware::pid() const {
 
 FirmwareRecord GrblFirmware::record() const {
   const Impl& I = *impl_;
+  bool running;
+  {
+    std::lock_guard<std::mutex> lk(I.mu);
+    running = I.cur >= 0 && I.sessions[static_cast<size_t>(I.cur)].pid > 0;
+  }
+  // grbl_avr buffers its step log and writes it out once a second of wall time (and whole
+  // at exit): a running firmware's log is complete to the moment of the call after that.
+  if (running) std::this_thread::sleep_for(std::chrono::milliseconds(1150));
   FirmwareRecord r;
   std::vector<SessionInfo> sessions;
   {
@@ -812,16 +827,16 @@ FirmwareRecord GrblFirmware::record() const {
     sessions = I.sessions;
   }
   r.settings = I.settings;
-  r.sample_s = I.opt.sample_s;
   for (size_t i = 0; i < sessions.size(); ++i) {
     const SessionInfo& s = sessions[i];
-    // After a power cut the machine was still moving if the step log was written just
-    // before (it writes every sample_s while a block runs).
-    const bool moving = s.power_cut && s.cut_idle_wall_s < 0.05;
-    StepLog sl = parse_step_log(slurp(s.step_path), I.opt.sample_s, moving, s.exited && !s.power_cut);
-    SessionRecord sr = build_session(parse_block_log(slurp(s.block_path)), sl, I.settings, s.power_cut, s.cut_idle_wall_s);
+    SessionRecord sr = build_session(parse_step_log(slurp(s.step_path)), r.lines, s.events, I.settings, r.device);
     sr.index = static_cast<int>(i);
-    sr.events = s.events;
+    sr.power_cut = s.power_cut;
+    // simavr's UART holds 64 bytes; a host that overfills grbl's 128-byte RX buffer loses
+    // bytes there, and simavr says so.
+    const std::string err = slurp(s.err_path);
+    for (size_t at = err.find("RX buffer overrun"); at != std::string::npos; at = err.find("RX buffer overrun", at + 1))
+      ++sr.rx_overruns;
     r.sessions.push_back(std::move(sr));
   }
   return r;

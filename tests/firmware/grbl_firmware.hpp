@@ -1,6 +1,7 @@
 #pragma once
-// The real grbl 1.1h firmware as a test oracle. grbl-sim (grbl's own source compiled for
-// a PC by ../shared/validators/grbl/build.sh) runs on a pseudo-terminal of its own; a
+// The real grbl 1.1h firmware as a test oracle. grbl_avr (grbl's AVR binary, as flashed
+// to an Arduino Uno, on the simavr instruction-level simulator: ../shared/validators/
+// grbl-avr/build.sh) runs on a pseudo-terminal of its own; a
 // relay thread copies bytes between that pty and a second one whose path the code under
 // test opens like a serial port. Owning both ends lets a test drop the link (the client's
 // pty hangs up, the firmware runs on, as a board with its own power does), cut the power
@@ -22,24 +23,25 @@
 
 namespace firmware {
 
-// Builds grbl-sim into `dir` (by default the build tree's grbl-sim/) once; build.sh is
+// Builds grbl-avr into `dir` (by default the build tree's grbl-avr/) once; build.sh is
 // idempotent and a lock file serialises test processes that start at the same time.
-// Returns the path of grbl_sim.exe. Throws std::runtime_error with the build log's tail.
-std::string ensure_grbl_sim(const std::string& dir = "");
+// Returns the path of grbl_avr. Throws std::runtime_error with the build log's tail.
+std::string ensure_grbl_avr(const std::string& dir = "");
 // The shared validators' settings/<name>.nc for a name ("grbl-servo"); a path with a '/'
 // is returned as it is.
 std::string settings_file(const std::string& name_or_path);
 
 struct FirmwareOptions {
   std::string settings;     // settings file (name or path) sent after every boot; "" = grbl's defaults
-  double timescale = 20;    // grbl_sim -t. The simulator runs flat out above ~1.5 on this machine;
-                            // block log and times do not depend on it (see the harness tests)
-  double sample_s = 0.001;
+  // grbl_avr -t: simulated time runs at this many times the wall clock (0: as fast as it
+  // can, about 2.4x here). 1, as a real board: the host's latency is what grbl would see,
+  // and the simulation needs under half a core, so a busy machine does not slow it.
+  double timescale = 1;
   // The relay paces both directions like a UART at this rate (8N1), in wall time;
-  // 0 = no pacing. grbl-sim alone takes bytes about 20 times faster than 115200 baud.
-  double baud = 115200;
-  double latency_ms = 0;  // one-way delay the relay adds (USB-serial adapters: about 1-2 ms; FTDI up to 16)  // grbl_sim -r: position samples in the step log, simulated seconds
-  std::string dir;          // work dir (EEPROM.DAT, session-N/ logs); "" = a temp dir, removed at the end
+  // 0 = no pacing (grbl_avr's own wire runs at 115200 baud in simulated time).
+  double baud = 0;
+  double latency_ms = 0;  // one-way delay the relay adds (USB-serial adapters: about 1-2 ms; FTDI up to 16)
+  std::string dir;          // work dir (eeprom.bin, session-N/ logs); "" = a temp dir, removed at the end
   // Switch off (cleanly) and on again after the settings, so they act as at power-on:
   // with homing on ($22=1) grbl then starts locked in ALARM (HOMING_INIT_LOCK).
   bool power_cycle_after_settings = false;
@@ -52,7 +54,7 @@ enum class Cut {
 
 class GrblFirmware {
  public:
-  // Builds grbl-sim if needed, starts the firmware, waits for its banner, sends the
+  // Builds grbl-avr if needed, starts the firmware, waits for its banner, sends the
   // settings and opens the client pty. Throws std::runtime_error.
   explicit GrblFirmware(FirmwareOptions options = {});
   explicit GrblFirmware(const std::string& settings) : GrblFirmware(with_settings(settings)) {}
@@ -72,10 +74,10 @@ class GrblFirmware {
   void drop_link();         // the client's pty hangs up now; the firmware keeps running
   std::string reconnect();  // a new client pty to the same firmware; returns its path
   void power_cut();         // freeze the firmware, hang up the client, kill the firmware
-  // A new firmware process (same EEPROM.DAT, so settings persist; position 0 = the machine
+  // A new firmware process (same EEPROM image, so settings persist; position 0 = the machine
   // re-zeroed or homed), banner, settings, a new client pty; returns its path.
   std::string power_on();
-  // Switch off cleanly (grbl-sim exits once idle, EEPROM written) and on again, without
+  // Switch off cleanly (grbl_avr exits once idle, EEPROM written) and on again, without
   // sending the settings; returns the new client pty.
   std::string power_cycle();
   // Cut the link or the power right after the client's n-th counted line (counted: `counts`
@@ -92,14 +94,18 @@ class GrblFirmware {
   // grbl's 128-byte RX buffer. Returns grbl's reply to each line (ok, error:N).
   std::vector<std::string> stream(const std::vector<std::string>& lines, double timeout_s = 120);
   std::string status(double timeout_s = 5);  // '?' -> "<Idle|MPos:...>"
+  // Real-time bytes onto grbl's wire now, whoever has the port (a noisy line, a second
+  // program, the board's own reset button): "\x18" resets grbl in mid-plot.
+  void inject(const std::string& realtime_bytes);
   void reset();                              // Ctrl-X, waits for the banner
   bool wait_idle(double timeout_s);          // polls '?' until Idle and the planner is empty
 
   // --- what happened ---
   std::vector<HostLine> host_lines() const;
   std::vector<DeviceLine> device_lines() const;
-  // Parses every session's block and step logs with the transcript (see FirmwareRecord).
-  // Take it with the firmware idle or off: a block still to run would count as run.
+  // Parses every session's step log with the transcript (see FirmwareRecord). Take it
+  // with the firmware idle or off; with it running this waits 1.15 s for the log to reach
+  // the disk.
   FirmwareRecord record() const;
   MachineSettings settings() const;  // from the settings file ($100.., $110.., $120.., $10)
   const std::string& dir() const;

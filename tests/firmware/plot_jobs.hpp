@@ -2,6 +2,8 @@
 // Jobs for the firmware tests, made by today's stipplot CLI, and `stipplot plot` run
 // against the firmware's port: small enough that each plots in a few simulated seconds.
 #include <nlohmann/json.hpp>
+#include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -113,8 +115,48 @@ inline std::vector<std::string> job_lines(const std::string& gcode) {
 
 inline size_t rx_drops(const FirmwareRecord& r) {
   size_t n = 0;
-  for (const SessionRecord& s : r.sessions) n += s.block_log.rx_drops;
+  for (const SessionRecord& s : r.sessions) n += s.rx_overruns;
   return n;
+}
+
+// `curves` closed wobbly curves flattened to 250 segments of 0.25 mm each, a servo pen
+// down for each (curves as a tree drawing or a foreign SVG flattens to): the streaming jobs.
+inline std::string curves_gcode(int curves) {
+  std::string g = "G21\nG90\nM5\n";
+  char b[96];
+  for (int c = 0; c < curves; ++c) {
+    const int cols = curves > 4 ? 5 : 2;
+    double cx = 30 + 25 * (c % cols), cy = 30 + 25 * (c / cols), r = 5 + c % 7, step = 0.25 / r;
+    auto pt = [&](int i, double& x, double& y) {
+      double a = i * step, rr = r * (1 + 0.3 * std::sin(3 * a));
+      x = cx + rr * std::cos(a);
+      y = cy + rr * std::sin(a);
+    };
+    double x, y;
+    pt(0, x, y);
+    std::snprintf(b, sizeof b, "G0 X%.2f Y%.2f\nM3 S1000\nG4 P0.1\n", x, y);
+    g += b;
+    for (int i = 1; i <= 250; ++i) {
+      pt(i, x, y);
+      std::snprintf(b, sizeof b, "G1 X%.2f Y%.2f F3000\n", x, y);
+      g += b;
+    }
+    g += "M5\nG4 P0.1\n";
+  }
+  return g;
+}
+
+// What to look at when a test fails: the blocks grbl planned and how far each ran, every
+// line with its reply, and everything grbl said.
+inline void dump(const FirmwareRecord& rec) {
+  for (const SessionRecord& s : rec.sessions) std::printf("%s", describe(s, rec.settings).c_str());
+  const char* reply[] = {"none", "ok", "error", "flushed"};
+  for (const HostLine& l : rec.lines)
+    std::printf("  host %.3f %s%s -> %s %.3f\n", l.t_sent, l.from_client ? "" : "[harness] ", l.text.c_str(),
+                reply[static_cast<int>(l.reply)], l.t_reply);
+  for (const DeviceLine& l : rec.device)
+    std::printf("  grbl %.3f%s %s\n", l.t, l.forwarded ? "" : " (not forwarded)", l.text.c_str());
+  std::fflush(stdout);
 }
 
 }  // namespace firmware::jobs

@@ -1,4 +1,4 @@
-// The firmware harness itself: its log parsers on canned grbl-sim output, then the real
+// The firmware harness itself: its log reader on canned grbl_avr output, then the real
 // firmware driven by the harness as the host (no stipplot code involved), checking that
 // what the logs say matches what was sent and grbl's own kinematics.
 #include <catch2/catch.hpp>
@@ -13,97 +13,130 @@ using namespace firmware;
 
 namespace {
 
-// A two-move job as grbl-sim 9bdd165 with build.sh's patches logs it (-r 0.001): a rapid
-// to 10,10, the pen down, 10 mm at F3000, the pen up; samples thinned out.
-const char* kBlocks =
-    "# reset at 1.05254 pos 0, 0, 0\n"
-    "1000, 1000, 0, 0.000000, 1, 0, 14.1421\n"
-    "2000, 1000, 0, 0.000000, 16, 1000, 10.0000\n"
-    "# rx drop 1 at 2.00000 byte 0x47\n";
-const char* kSteps =
-    "# block number 0\n"
-    "     1.33389 0, 0, 0, 0\n"
-    "     1.33400 0, 0, 0, 0\n"
-    "     1.33500 1, 1, 0, 0\n"
-    "     1.33600 1, 1, 0, 0\n"
-    "     1.33700 2, 2, 0, 0\n"
-    "     1.33800 4, 4, 0, 0\n"
-    "     1.33900 877, 877, 0, 0\n"  // planner empty: no lines until the pen is down
-    "     1.71992 1000, 1000, 0, 255\n"
-    "# block number 1\n"
-    "     1.72000 1000, 1000, 0, 255\n"
-    "     1.72100 1001, 1000, 0, 255\n"
-    "     1.72200 1003, 1000, 0, 255\n"
-    "     1.72291 1877, 1000, 0, 255\n"
-    "     4.17899 2000, 1000, 0, 0\n";  // the line printed at exit
+// A servo job as grbl_avr logs it, at 1 step a mm: a rapid to 3,3, the pen down, a line
+// to 6,3, the pen up, and a move to 6,5 cut by a power cut after its first step.
+const char* kLog =
+    "# grbl_avr log: t = simulated seconds since power-on\n"
+    "P 1.0000000 XY 1 1 0\n"
+    "P 1.0010000 XY 2 2 0\n"
+    "P 1.0020000 XY 3 3 0\n"
+    "M 1.2000000 duty=1.0000 pwm=1 ocr2a=255 pb3=1 pb5=0 hz=976.6 pulse_us=1024.0\n"
+    "P 1.3000000 X 4 3 0\n"
+    "P 1.3010000 X 5 3 0\n"
+    "P 1.3020000 X 6 3 0\n"
+    "M 1.5000000 duty=0.0000 pwm=0 ocr2a=255 pb3=0 pb5=0 hz=976.6 pulse_us=0.0\n"
+    "P 1.6000000 Y 6 4 0\n"
+    "P 1.60";  // cut mid-line: the log is read while grbl_avr writes it
+
+struct Transcript {
+  std::vector<HostLine> lines;
+  std::vector<SessionEvent> events;
+  std::vector<DeviceLine> device;
+  void reset() {
+    device.push_back({"Grbl 1.1h ['$' for help]"});
+    events.push_back({SessionEvent::Kind::Reset, 0, device.size() - 1});
+  }
+  void said(const std::string& text) { device.push_back({text}); }
+  void ok(const std::string& text) {
+    HostLine h;
+    h.text = text;
+    h.reply = HostLine::Reply::Ok;
+    lines.push_back(h);
+    events.push_back({SessionEvent::Kind::Line, lines.size() - 1});
+  }
+};
+
+MachineSettings one_step_a_mm() { return MachineSettings::parse("$100=1\n$101=1\n$102=1\n$120=1000\n$121=1000\n$122=1000\n"); }
 
 }  // namespace
 
-TEST_CASE("firmware logs: block log epochs, resets and rx drops", "[firmware-logs]") {
-  BlockLog bl = parse_block_log(kBlocks);
-  REQUIRE(bl.resets.size() == 1);
-  CHECK(bl.resets[0].t == Approx(1.05254));
-  REQUIRE(bl.epochs.size() == 1);
-  REQUIRE(bl.epochs[0].size() == 2);
-  CHECK(bl.epochs[0][0].end == Steps{1000, 1000, 0});
-  CHECK(bl.epochs[0][0].rapid());
-  CHECK_FALSE(bl.epochs[0][0].spindle_on());
-  CHECK(bl.epochs[0][1].spindle_on());
-  CHECK(bl.epochs[0][1].spindle == 1000);
-  CHECK(bl.rx_drops == 1);
+TEST_CASE("firmware logs: steps and pen changes with their simulated times", "[firmware-logs]") {
+  const StepLog log = parse_step_log(kLog);
+  REQUIRE(log.steps.size() == 7);
+  CHECK(log.steps[2].pos == Steps{3, 3, 0});
+  CHECK(log.steps[3].t == Approx(1.3));
+  REQUIRE(log.spindle.size() == 2);
+  CHECK(log.spindle[0].duty == 1.0);
+  CHECK(log.spindle[0].steps_before == 3);
+  CHECK(log.spindle[1].steps_before == 6);
+  CHECK_FALSE(log.ended);
+  CHECK(parse_step_log("E 2.5000000 6 4 0\n").ended);
 }
 
-TEST_CASE("firmware logs: the zeroed slots a reset leaves in the ring buffer are no blocks", "[firmware-logs]") {
-  // Seen on a soft reset after a dead host's job: the logger ran between plan_reset() and
-  // the banner and printed slots 2..15 as grbl had just zeroed them.
-  std::string log = std::string(kBlocks);
-  for (int i = 0; i < 14; ++i) log += "2000, 1000, 0, 0.000000, 0, 0, 0.0000\n";
-  log += "# reset at 3.00000 pos 2000, 1000, 0\n3000, 1000, 0, 0.000000, 1, 0, 10.0000\n";
-  BlockLog bl = parse_block_log(log);
-  REQUIRE(bl.epochs.size() == 2);
-  CHECK(bl.epochs[0].size() == 2);
-  CHECK(bl.epochs[1].size() == 1);
-  CHECK(bl.zeroed_slots == 14);
+TEST_CASE("firmware logs: the step log walked along the answered lines gives each block's run and the marks",
+          "[firmware-logs]") {
+  Transcript tr;
+  tr.reset();
+  for (const char* l : {"G21", "G90", "G0 X3 Y3", "M3 S1000", "G1 X6 Y3 F3000", "M5", "G1 X6 Y5"}) tr.ok(l);
+  FirmwareRecord rec;
+  rec.settings = one_step_a_mm();
+  rec.lines = tr.lines;
+  rec.sessions.push_back(build_session(parse_step_log(kLog), tr.lines, tr.events, rec.settings));
+  const SessionRecord& s = rec.sessions[0];
+  INFO(describe(s, rec.settings));
+  REQUIRE(s.blocks.size() == 3);
+  CHECK(s.blocks[0].run == ExecutedBlock::Run::Complete);
+  CHECK(s.blocks[0].duty == 0);
+  CHECK(s.blocks[1].run == ExecutedBlock::Run::Complete);
+  CHECK(s.blocks[1].duty == 1);
+  CHECK(s.blocks[2].run == ExecutedBlock::Run::Partial);
+  CHECK(s.blocks[2].stop == Steps{6, 4, 0});
+  CHECK(s.problems.empty());
+  // The pen change between them made the machine stop: rests after both blocks.
+  CHECK(s.blocks[0].rest_after);
+  CHECK(s.blocks[0].t_end == Approx(1.002 + std::sqrt(0.002)));  // a diagonal step: sqrt(2) mm at sqrt(2) x 1000 mm/s^2
+  CHECK(s.blocks[1].t_start == Approx(1.3 - std::sqrt(2.0 / 1000)));
+  const Interpretation in = interpret(rec, PenRule::servo());
+  CHECK(in.inconsistencies.empty());
+  REQUIRE(in.marks.size() == 1);
+  CHECK(in.marks[0].kind == Mark::Kind::Segment);
+  CHECK(in.marks[0].b == Steps{6, 3, 0});
+  CHECK(in.pen_down_mm == Approx(3));
+  CHECK(in.rests_at_sync == 2);
+  CHECK(in.rests_starved == 0);
 }
 
-TEST_CASE("firmware logs: step log pauses are the planner running dry", "[firmware-logs]") {
-  StepLog sl = parse_step_log(kSteps, 0.001, false, true);
-  REQUIRE(sl.lines.size() == 12);  // the exit line dropped
-  REQUIRE(sl.empties.size() == 2);
-  CHECK(sl.empties[0].t_emptied == Approx(1.33900));
-  CHECK(sl.empties[0].pos_emptied == Steps{877, 877, 0});
-  CHECK(sl.empties[0].t_resumed == Approx(1.71992));
-  CHECK(sl.empties[0].pos_resumed == Steps{1000, 1000, 0});
-  CHECK(sl.empties[1].t_emptied == Approx(1.72291));
-  CHECK(sl.empties[1].t_resumed < 0);
-  // Frozen mid-move (a power cut right after the last sample): no final pause.
-  StepLog cut = parse_step_log(std::string(kSteps).substr(0, std::string(kSteps).rfind("     1.72291")), 0.001, true);
-  CHECK(cut.empties.size() == 1);
-  CHECK(cut.ends_moving);
-}
-
-TEST_CASE("firmware logs: a session joins both logs and the rest time follows the deceleration", "[firmware-logs]") {
-  MachineSettings s = MachineSettings::parse("$100=100\n$101=100\n$102=100\n$120=1000\n$121=1000\n$122=1000\n");
-  SessionRecord r = build_session(parse_block_log(kBlocks), parse_step_log(kSteps, 0.001, false, true), s, false, 0);
-  REQUIRE(r.blocks.size() == 2);
-  CHECK(r.blocks[0].run == ExecutedBlock::Run::Complete);
-  CHECK(r.blocks[0].start == Steps{0, 0, 0});
-  CHECK(r.blocks[0].t_start == Approx(1.33389));
-  CHECK(r.blocks[1].start == Steps{1000, 1000, 0});
-  CHECK(r.blocks[1].t_start == Approx(1.71992));
-  REQUIRE(r.rests.size() == 1);
-  CHECK(r.rests[0].block == 0);
-  CHECK(r.rests[0].full_stop);
-  // 1.23 mm diagonally left at 1414 mm/s^2: sqrt(2 * 1.739 / 1414.2) = 49.6 ms.
-  CHECK(r.blocks[0].t_end == Approx(1.339 + std::sqrt(2 * std::hypot(1.23, 1.23) / (1000 * std::sqrt(2.0)))).epsilon(1e-6));
-  CHECK(r.blocks[1].rest_after);
-  // The same log cut by a power cut in block 1, 3 steps past its start.
-  std::string cut = std::string(kSteps).substr(0, std::string(kSteps).rfind("     1.72291"));
-  SessionRecord c = build_session(parse_block_log(kBlocks), parse_step_log(cut, 0.001, true), s, true, 0.0);
-  CHECK(c.blocks[0].run == ExecutedBlock::Run::Complete);
-  CHECK(c.blocks[1].run == ExecutedBlock::Run::Partial);
-  CHECK(c.blocks[1].stop == Steps{1003, 1000, 0});
-  CHECK_FALSE(c.ambiguous_cut);
+TEST_CASE("firmware logs: a reset in mid-stroke ends the block where the pen went up, and steps no block explains are named",
+          "[firmware-logs]") {
+  const char* log =
+      "M 0.5000000 duty=1.0000 pwm=1 ocr2a=255 pb3=1 pb5=0 hz=976.6 pulse_us=1024.0\n"
+      "P 1.0000000 X 1 0 0\n"
+      "P 1.0010000 X 2 0 0\n"
+      "M 1.0015000 duty=0.0000 pwm=0 ocr2a=255 pb3=0 pb5=0 hz=976.6 pulse_us=0.0\n"  // the reset stops the spindle
+      "P 2.0000000 X 3 0 0\n"  // after the reset: a pen-up move on from where it stood
+      "P 2.0010000 X 4 0 0\n"
+      "E 3.0000000 4 0 0\n";
+  Transcript tr;
+  tr.reset();
+  for (const char* l : {"G21", "G90", "M3 S1000", "G1 X5 F3000"}) tr.ok(l);
+  tr.said("<Run|MPos:1.000,0.000,0.000|Bf:15,128>");
+  tr.reset();
+  tr.said("<Idle|MPos:2.000,0.000,0.000|Bf:15,128>");  // where the reset left it
+  tr.ok("G0 X4");
+  FirmwareRecord rec;
+  rec.settings = one_step_a_mm();
+  rec.lines = tr.lines;
+  rec.device = tr.device;
+  rec.sessions.push_back(build_session(parse_step_log(log), tr.lines, tr.events, rec.settings, tr.device));
+  const SessionRecord& s = rec.sessions[0];
+  INFO(describe(s, rec.settings));
+  REQUIRE(s.blocks.size() == 2);
+  CHECK(s.blocks[0].run == ExecutedBlock::Run::Partial);
+  CHECK(s.blocks[0].stop == Steps{2, 0, 0});
+  CHECK(s.blocks[1].start == Steps{2, 0, 0});
+  CHECK(s.blocks[1].run == ExecutedBlock::Run::Complete);
+  CHECK(s.blocks[1].epoch == 1);
+  const Interpretation in = interpret(rec, PenRule::servo());
+  CHECK(in.inconsistencies.empty());
+  REQUIRE(in.marks.size() == 1);
+  CHECK(in.marks[0].kind == Mark::Kind::Partial);
+  // Without the reset's line the steps after it follow nothing that grbl was sent.
+  Transcript short_tr;
+  short_tr.reset();
+  for (const char* l : {"G21", "G90", "M3 S1000", "G1 X5 F3000"}) short_tr.ok(l);
+  const SessionRecord t = build_session(parse_step_log(log), short_tr.lines, short_tr.events, rec.settings, short_tr.device);
+  REQUIRE(t.problems.size() == 1);
+  CHECK(t.problems[0].find("2 steps") != std::string::npos);
 }
 
 TEST_CASE("firmware model: grbl's view of a servo and a Z-pen job", "[firmware-logs]") {
@@ -149,6 +182,7 @@ TEST_CASE("grbl firmware: settings, a job sent line by line, and what the logs p
   JobCheck jc = check_job(job, rec, PenRule::servo());
   INFO(describe(s, rec.settings));
   INFO(jc.marks.summary());
+  CHECK(s.rx_overruns == 0);
   for (const auto& i : jc.firmware.inconsistencies) INFO(i);
   CHECK(jc.firmware.inconsistencies.empty());
   CHECK(jc.marks.exact());
@@ -202,20 +236,17 @@ TEST_CASE("grbl firmware: a power cut mid-move, and power on again", "[firmware]
   CHECK(again.sessions[1].blocks.empty());
 }
 
-// grbl-sim's clock runs at -t times the wall clock, or as fast as it can (about 1-2x
-// real time on the CI machine) when that is less. The firmware's record is in simulated
-// time, so a larger -t must change nothing but the host's latency as grbl sees it.
-// The job opens with a 1 s dwell: its 94 bytes fit grbl's RX buffer and the relay
-// delivers them in 8 ms of wall time, so every line is waiting in grbl before the first
-// move, whatever the timescale and however late a loaded host's relay thread runs (at
-// -t 20 a 10 ms stall of the relay is 200 ms of grbl's time: without the dwell a late
-// line made the planner stop between moves and the times differ by tens of ms).
-TEST_CASE("grbl firmware: the block log and plot times do not depend on the -t timescale", "[firmware]") {
+// grbl_avr's clock runs at -t times the wall clock, or as fast as it can (about 2.4x real
+// time here) with -t 0. The firmware's record is in simulated time, so the timescale must
+// change nothing but the host's latency as grbl sees it. The job opens with a 1 s dwell:
+// its bytes fit grbl's RX buffer, so every line is waiting in grbl before the first move,
+// however late a loaded host's relay thread runs.
+TEST_CASE("grbl firmware: the step log and plot times do not depend on the -t timescale", "[firmware]") {
   const std::string job =
       "G21\nG90\nG4 P1\nG0 X5 Y5\nM3 S1000\nG4 P0.1\nG1 X25 Y5 F3000\nG1 X25 Y15\nG1 X5 Y5\nM5\nG4 P0.1\nG0 X0 Y0\n";
   REQUIRE(job.size() < 127);
   std::vector<SessionRecord> runs;
-  for (double t : {1.0, 20.0}) {
+  for (double t : {1.0, 0.0}) {
     FirmwareOptions o = GrblFirmware::with_settings("grbl-servo");
     o.timescale = t;
     GrblFirmware fw(o);
@@ -225,18 +256,19 @@ TEST_CASE("grbl firmware: the block log and plot times do not depend on the -t t
   }
   REQUIRE(runs[0].blocks.size() == 5);
   REQUIRE(runs[1].blocks.size() == runs[0].blocks.size());
+  // The same steps in the same order, at the same times from the first step on.
+  REQUIRE(runs[0].step_log.steps.size() == runs[1].step_log.steps.size());
+  const double t0 = runs[0].step_log.steps[0].t, t1 = runs[1].step_log.steps[0].t;
+  for (size_t i = 0; i < runs[0].step_log.steps.size(); ++i) {
+    const StepEvent &a = runs[0].step_log.steps[i], &b = runs[1].step_log.steps[i];
+    REQUIRE(a.pos == b.pos);
+    REQUIRE(b.t - t1 == Approx(a.t - t0).margin(0.002));
+  }
   for (size_t k = 0; k < runs[0].blocks.size(); ++k) {
     const ExecutedBlock &a = runs[0].blocks[k], &b = runs[1].blocks[k];
     CHECK(a.planned.end == b.planned.end);
-    CHECK(a.planned.condition == b.planned.condition);
-    CHECK(a.planned.spindle == b.planned.spindle);
-    // Times from the first block's start agree to a few ms: dwells and moves are simulated
-    // exactly; what differs is when grbl got each line.
-    CHECK((a.t_start >= 0) == (b.t_start >= 0));
-    CHECK((a.t_end >= 0) == (b.t_end >= 0));
-    if (a.t_start >= 0 && b.t_start >= 0)
-      CHECK(b.t_start - runs[1].blocks[0].t_start == Approx(a.t_start - runs[0].blocks[0].t_start).margin(0.01));
-    if (a.t_end >= 0 && b.t_end >= 0)
-      CHECK(b.t_end - runs[1].blocks[0].t_start == Approx(a.t_end - runs[0].blocks[0].t_start).margin(0.01));
+    CHECK(a.run == ExecutedBlock::Run::Complete);
+    CHECK(b.run == ExecutedBlock::Run::Complete);
+    CHECK(a.duty == b.duty);
   }
 }

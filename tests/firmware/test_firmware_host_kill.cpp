@@ -11,20 +11,6 @@
 
 using namespace firmware;
 
-namespace {
-// What to look at when it fails: the blocks grbl planned, every line with its reply, and
-// what grbl said besides ok and status reports.
-void dump(const FirmwareRecord& rec) {
-  for (const SessionRecord& s : rec.sessions) std::printf("%s", describe(s, rec.settings).c_str());
-  const char* reply[] = {"none", "ok", "error", "flushed"};
-  for (const HostLine& l : rec.lines)
-    std::printf("  host %.3f %s%s -> %s %.3f\n", l.t_sent, l.from_client ? "" : "[harness] ", l.text.c_str(),
-                reply[static_cast<int>(l.reply)], l.t_reply);
-  for (const DeviceLine& l : rec.device)
-    std::printf("  grbl %.3f%s %s\n", l.t, l.forwarded ? "" : " (not forwarded)", l.text.c_str());
-  std::fflush(stdout);
-}
-}  // namespace
 
 TEST_CASE("stipplot plot on the grbl firmware: killed or stopped mid-plot, then --resume: nothing lost, at most one mark doubled",
           "[firmware]") {
@@ -44,7 +30,7 @@ TEST_CASE("stipplot plot on the grbl firmware: killed or stopped mid-plot, then 
     REQUIRE(testjob::signal_when_under_way(first, path + ".journal", third, sig, status));
     jobs::Plot second = jobs::plot(path, profile, fw.port(), "", true);
     INFO((sig == SIGKILL ? "SIGKILL" : "SIGTERM") << ": " << test::read_file(t.file("err1")) << second.run.err);
-    if (!second.completed()) dump(fw.record());
+    if (!second.completed()) jobs::dump(fw.record());
     REQUIRE(second.completed());
     REQUIRE(fw.wait_idle(60));
     const FirmwareRecord rec = fw.record();
@@ -52,7 +38,7 @@ TEST_CASE("stipplot plot on the grbl firmware: killed or stopped mid-plot, then 
     std::printf("firmware host fault | %-7s | %s\n", sig == SIGKILL ? "SIGKILL" : "SIGTERM", jc.marks.summary().c_str());
     std::fflush(stdout);
     for (const auto& i : jc.firmware.inconsistencies) std::printf("  inconsistent: %s\n", i.c_str());
-    if (!jc.firmware.inconsistencies.empty() || jc.marks.lost || jc.marks.doubled > 1 || jc.marks.extra) dump(rec);
+    if (!jc.firmware.inconsistencies.empty() || jc.marks.lost || jc.marks.doubled > 1 || jc.marks.extra) jobs::dump(rec);
     for (const Mark& m : jc.marks.lost_marks) std::printf("  lost %s\n", describe(m, rec.settings).c_str());
     for (const Mark& m : jc.marks.extra_marks) std::printf("  extra %s\n", describe(m, rec.settings).c_str());
     CHECK(jc.marks.lost == 0);

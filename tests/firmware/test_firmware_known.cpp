@@ -124,26 +124,7 @@ TEST_CASE("firmware known: resume after a dropped link or a power cut loses or d
 // bench/bench_streaming.cpp runs on stipplot's own simulator, so the figures compare.
 TEST_CASE("firmware known: streaming 2,500 short segments keeps grbl's planner fed", "[.firmware-known]") {
   test::TempDir t;
-  std::string g = "G21\nG90\nM5\n";
-  char b[96];
-  for (int c = 0; c < 10; ++c) {
-    double cx = 30 + 25 * (c % 5), cy = 30 + 25 * (c / 5), r = 5 + c % 7, step = 0.25 / r;
-    auto pt = [&](int i, double& x, double& y) {
-      double a = i * step, rr = r * (1 + 0.3 * std::sin(3 * a));
-      x = cx + rr * std::cos(a);
-      y = cy + rr * std::sin(a);
-    };
-    double x, y;
-    pt(0, x, y);
-    std::snprintf(b, sizeof b, "G0 X%.2f Y%.2f\nM3 S1000\nG4 P0.1\n", x, y);
-    g += b;
-    for (int i = 1; i <= 250; ++i) {
-      pt(i, x, y);
-      std::snprintf(b, sizeof b, "G1 X%.2f Y%.2f F3000\n", x, y);
-      g += b;
-    }
-    g += "M5\nG4 P0.1\n";
-  }
+  const std::string g = jobs::curves_gcode(10);
   const std::string path = t.file("curves.gcode");
   std::ofstream(path) << g;
   say("\n%-9s %7s %9s %8s %10s %10s %10s %10s %8s\n", "stream", "latency", "firmware", "starved", "standstill", "Run polls",
