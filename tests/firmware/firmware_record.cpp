@@ -1,6 +1,7 @@
 #include "firmware/firmware_record.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -150,7 +151,8 @@ void time_blocks(SessionRecord& r, const MachineSettings& s) {
   }
 }
 
-// "<Idle|MPos:1.000,2.000,0.000|..." -> steps; false if it is no status report with MPos.
+}  // namespace
+
 bool status_position(const std::string& text, const MachineSettings& s, Steps& out) {
   const size_t at = text.find("MPos:");
   double v[3];
@@ -160,6 +162,8 @@ bool status_position(const std::string& text, const MachineSettings& s, Steps& o
   out = {std::lround(v[0] * s.steps_per_mm[0]), std::lround(v[1] * s.steps_per_mm[1]), std::lround(v[2] * s.steps_per_mm[2])};
   return true;
 }
+
+namespace {
 
 // The first step index >= from after which the machine stands at p (from itself if it
 // stands there already); npos if none.
@@ -188,6 +192,8 @@ std::vector<size_t> reset_steps(const StepLog& L, const std::vector<SessionEvent
       booted = true;
       continue;
     }
+    // The first report after it; past another banner if one came first (a host that
+    // answers an outside reset's ALARM:3 with a reset of its own: no move in between).
     size_t at = std::string::npos;
     for (size_t k = ev.device + 1; k < device.size(); ++k) {
       Steps p;
@@ -195,12 +201,49 @@ std::vector<size_t> reset_steps(const StepLog& L, const std::vector<SessionEvent
         at = first_at(L, anchor, p);
         break;
       }
-      if (device[k].text.rfind("Grbl ", 0) == 0) break;  // another reset first
     }
     out.push_back(at);
     if (at != std::string::npos) anchor = at;
   }
   return out;
+}
+
+// What grbl ran of the lines a reset flushed while they were on the wire: replies[i] (the
+// i-th reply after the reset) answered the tail of flushed line k (from a word on, or
+// whole) for i = 0 and line k + i after it. Of every k and tail, the first under which
+// every answered move is one the step log shows whole, taking the most steps; the last
+// lines first, as the ones in flight are the newest. O(flushed x words x replies x steps).
+std::vector<std::string> in_flight(const std::vector<const HostLine*>& replies, const std::vector<HostLine>& lines,
+                                   const GcodeInterpreter& g, const StepWalker& walk) {
+  const std::vector<size_t>& flushed = replies[0]->fragment_of;
+  std::vector<std::string> best;
+  size_t best_steps = 0;
+  for (size_t k = flushed.size(); k-- > 0;) {
+    if (k + replies.size() > flushed.size()) continue;
+    const std::string head = grbl_line_filter(lines[flushed[k]].text);
+    for (size_t p = 0; p < head.size(); ++p) {
+      if (!std::isalpha(static_cast<unsigned char>(head[p]))) continue;
+      std::vector<std::string> texts;
+      GcodeInterpreter trial = g;
+      StepWalker w = walk;
+      bool fits = true;
+      for (size_t i = 0; i < replies.size() && fits; ++i) {
+        texts.push_back(i == 0 ? head.substr(p) : grbl_line_filter(lines[flushed[k + i]].text));
+        if (replies[i]->reply != HostLine::Reply::Ok) continue;  // grbl refused it: it changed nothing
+        try {
+          const LineEffect e = trial.feed(texts.back());
+          if (e.motion && !(e.from == e.to)) fits = w.run(e.from, e.to).run == ExecutedBlock::Run::Complete;
+        } catch (const std::exception&) {
+          fits = false;
+        }
+      }
+      if (fits && (best.empty() || w.next_step() > best_steps)) {
+        best = texts;
+        best_steps = w.next_step();
+      }
+    }
+  }
+  return best;
 }
 
 }  // namespace
@@ -273,12 +316,28 @@ SessionRecord build_session(const StepLog& log, const std::vector<HostLine>& lin
       continue;
     }
     const HostLine& l = lines[ev.line];
+    const bool first_in_flight = !l.fragment_of.empty() && &ev != events.data() && (&ev - 1)->kind == SessionEvent::Kind::Reset;
+    if (first_in_flight) {
+      std::vector<const HostLine*> replies;  // this reset's run of replies to lines in flight
+      std::vector<size_t> at;
+      for (const SessionEvent* f = &ev; f != events.data() + events.size() && f->kind == SessionEvent::Kind::Line &&
+                                        !lines[f->line].fragment_of.empty(); ++f) {
+        replies.push_back(&lines[f->line]);
+        at.push_back(f->line);
+      }
+      const std::vector<std::string> texts = in_flight(replies, lines, g, walk);
+      if (texts.empty()) r.problems.push_back("what grbl ran after reset " + std::to_string(epoch) + " is no run of flushed lines");
+      for (size_t i = 0; i < texts.size(); ++i) r.fragment_text.push_back({at[i], texts[i]});
+    }
     if (l.reply != HostLine::Reply::Ok) continue;
+    std::string text = l.text;
+    for (const auto& [line, ran] : r.fragment_text)
+      if (line == ev.line) text = ran;
     LineEffect e;
     try {
-      e = g.feed(l.text);
+      e = g.feed(text);
     } catch (const std::exception& ex) {
-      r.problems.push_back("line `" + l.text + "`: " + ex.what());
+      r.problems.push_back("line `" + text + "`: " + ex.what());
       continue;
     }
     if (!e.motion || e.from == e.to) continue;
@@ -361,9 +420,12 @@ void interpret_session(const FirmwareRecord& r, const SessionRecord& s, const Pe
     }
     const HostLine& l = r.lines[ev.line];
     if (l.reply != HostLine::Reply::Ok) continue;
+    std::string text = l.text;
+    for (const auto& [line, tail] : s.fragment_text)
+      if (line == ev.line) text = tail;
     LineEffect e;
     try {
-      e = g.feed(l.text);
+      e = g.feed(text);
     } catch (const std::exception&) {
       continue;  // build_session reported it
     }

@@ -35,6 +35,11 @@ struct HostLine {
   int error = 0;                 // N of error:N
   bool reply_forwarded = false;  // the client got the reply
   double t_sent = 0, t_reply = 0;  // wall seconds since the harness started
+  // Not empty: a line grbl answered that the relay never saw start, after a reset that
+  // flushed these lines while their bytes were on the wire: grbl ran the tail of one of
+  // them, then the whole lines after it. Which, is read from the step log
+  // (SessionRecord::fragment_text).
+  std::vector<size_t> fragment_of;
 };
 
 // A line the firmware sent.
@@ -63,6 +68,8 @@ struct StepLog {
   Steps end_pos;
 };
 StepLog parse_step_log(const std::string& text);  // O(text)
+// "<Idle|MPos:1.000,2.000,0.000|..." -> machine steps; false if it is no status report with MPos.
+bool status_position(const std::string& status_report, const MachineSettings& s, Steps& out);
 
 // ---- one firmware process ----
 // A block grbl planned: one per answered move of at least one step, in order.
@@ -107,6 +114,7 @@ struct SessionRecord {
   std::vector<RestEvent> rests;       // the machine stood still with the epoch's next block still to come
   std::vector<SessionEvent> events;   // replies and resets, in grbl's order
   std::vector<Steps> epoch_start;     // where the machine stood at each boot / reset
+  std::vector<std::pair<size_t, std::string>> fragment_text;  // line index -> what grbl ran of the flushed lines
   std::vector<std::string> problems;  // lines the model could not follow, steps no block explains
 };
 

@@ -209,6 +209,7 @@ struct GrblFirmware::Impl {
     uint64_t end;  // offset just past the line in the bytes written to the firmware
   };
   std::deque<Pending> pending;  // lines grbl has not answered yet, oldest first
+  std::vector<size_t> flushed_at_reset;  // lines the last reset dropped, until grbl answers a line
   std::vector<HostLine> lines;
   std::vector<DeviceLine> device;
   std::vector<SessionInfo> sessions;
@@ -370,8 +371,27 @@ void GrblFirmware::Impl::device_line(const std::string& text, bool forwarded) {
     h.reply_forwarded = forwarded;
     t_last_reply = h.t_reply;
     s.events.push_back({SessionEvent::Kind::Line, static_cast<size_t>(&h - lines.data())});
+    flushed_at_reset.clear();
+  } else if ((ok || err) && !flushed_at_reset.empty()) {
+    // A reply to no line the relay saw start: grbl was reset while lines were on the wire
+    // (up to 127 bytes with character counting) and ran what arrived after the reset: the
+    // tail of the line it was receiving, then the whole lines behind it (seen on the AVR
+    // binary). Which ones, the record reads from the step log.
+    HostLine h;
+    h.session = cur;
+    h.fragment_of = flushed_at_reset;
+    h.reply = ok ? HostLine::Reply::Ok : HostLine::Reply::Error;
+    h.error = err ? std::atoi(text.c_str() + 6) : 0;
+    h.t_sent = h.t_reply = now();
+    h.reply_forwarded = forwarded;
+    lines.push_back(h);
+    s.events.push_back({SessionEvent::Kind::Line, lines.size() - 1});
   } else if (text.rfind("Grbl ", 0) == 0) {  // boot or reset: grbl's buffers were emptied
-    for (const Pending& q : pending) lines[q.line].reply = HostLine::Reply::Flushed;
+    flushed_at_reset.clear();
+    for (const Pending& q : pending) {
+      lines[q.line].reply = HostLine::Reply::Flushed;
+      flushed_at_reset.push_back(q.line);
+    }
     pending.clear();
     s.events.push_back({SessionEvent::Kind::Reset, 0, device.size() - 1});
   }
@@ -808,16 +828,30 @@ pid_t GrblFirmware::pid() const {
   return impl_->cur >= 0 ? impl_->sessions[static_cast<size_t>(impl_->cur)].pid : -1;
 }
 
-FirmwareRecord GrblFirmware::record() const {
+FirmwareRecord GrblFirmware::record() {
   const Impl& I = *impl_;
-  bool running;
+  std::string step_path;
   {
     std::lock_guard<std::mutex> lk(I.mu);
-    running = I.cur >= 0 && I.sessions[static_cast<size_t>(I.cur)].pid > 0;
+    if (I.cur >= 0 && I.sessions[static_cast<size_t>(I.cur)].pid > 0) step_path = I.sessions[static_cast<size_t>(I.cur)].step_path;
   }
   // grbl_avr buffers its step log and writes it out once a second of wall time (and whole
-  // at exit): a running firmware's log is complete to the moment of the call after that.
-  if (running) std::this_thread::sleep_for(std::chrono::milliseconds(1150));
+  // at exit): wait until the log's last step is where grbl says the machine stands (or,
+  // while a client holds the port and grbl cannot be asked, for one write-out).
+  if (!step_path.empty()) {
+    Steps at;
+    bool asked = false;
+    try {
+      asked = status_position(status(), I.settings, at);
+    } catch (const std::runtime_error&) {
+    }
+    const auto end = Clock::now() + std::chrono::seconds(asked ? 10 : 0);
+    do {
+      const StepLog log = parse_step_log(slurp(step_path));
+      if (asked && (log.steps.empty() ? at == Steps{} : log.steps.back().pos == at)) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(asked ? 100 : 1150));
+    } while (Clock::now() < end);
+  }
   FirmwareRecord r;
   std::vector<SessionInfo> sessions;
   {

@@ -104,9 +104,9 @@ class GrblFirmware {
   std::vector<HostLine> host_lines() const;
   std::vector<DeviceLine> device_lines() const;
   // Parses every session's step log with the transcript (see FirmwareRecord). Take it
-  // with the firmware idle or off; with it running this waits 1.15 s for the log to reach
-  // the disk.
-  FirmwareRecord record() const;
+  // with the firmware idle or off; with it running, this first waits until the log on
+  // disk (grbl_avr writes it out once a second) reaches where grbl says it stands.
+  FirmwareRecord record();
   MachineSettings settings() const;  // from the settings file ($100.., $110.., $120.., $10)
   const std::string& dir() const;
   pid_t pid() const;  // the running firmware, -1 after a power cut

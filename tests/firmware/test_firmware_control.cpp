@@ -173,11 +173,10 @@ TEST_CASE("stipplot plot on the grbl firmware: aborted mid-plot, then --resume: 
 // Somebody resets grbl (Ctrl-X on the wire: the board's reset button, another program)
 // while stipplot plots: grbl drops its buffers and, stopped in motion, raises ALARM:3.
 // stipplot stops with a resumable error; `plot --resume --unlock` finishes the job.
-// Hidden: what the real firmware showed is that the tail of a line that was arriving at
-// the reset reaches grbl as a line of its own and runs ("Y15.13" of "G0 X20.65 Y15.13":
-// a pen-up move to X7.07 Y15.13), and the harness cannot yet explain that move (its
-// transcript counts the whole line as flushed), so the checker loses its place.
-TEST_CASE("stipplot plot on the grbl firmware: a soft reset in mid-plot, then --resume: nothing lost", "[.firmware-known]") {
+// The real firmware showed that the tail of a line that was arriving at the reset reaches
+// grbl as a line of its own and runs ("Y15.13" of "G0 X20.65 Y15.13": a pen-up move, the
+// reset having stopped the spindle); the harness finds that tail from the step log.
+TEST_CASE("stipplot plot on the grbl firmware: a soft reset in mid-plot, then --resume: nothing lost", "[firmware]") {
   const std::string profile = "grbl-servo";
   test::TempDir t;
   const jobs::Job job = jobs::tree_job(profile, t.file("tree.gcode"), "--page 25x20mm --margin 2 -a 7.5 -b 12");

@@ -209,6 +209,7 @@ class Streamer::JobRun {
       // grbl answers a sync line once it has run, after every block before it: all
       // acknowledged moves are executed.
       last_sync_acked_ = line;
+      before_sync_ = std::move(acked_motion_);
       acked_motion_.clear();
       return;
     }
@@ -421,17 +422,22 @@ class Streamer::JobRun {
     // Every move not proved run by a sync line: grbl drops a block from its planner once
     // the stepper has taken it, so the planner fill alone can call a move done that a
     // hold and a reset cut short.
-    for (size_t k = 0; k < acked_motion_.size(); ++k) {
-      const size_t line = static_cast<size_t>(acked_motion_[k]);
+    // 0: not on the move; 1: on it, short of its end; 2: at its end (within MPos's
+    // rounding: a hold can stop a move one step short, and that move is then drawn again).
+    auto on = [&](size_t line) {
       const double x0 = line ? L[line - 1].x : 0, y0 = line ? L[line - 1].y : 0, x1 = L[line].x, y1 = L[line].y;
       const double dx = x1 - x0, dy = y1 - y0, len2 = dx * dx + dy * dy;
       const double u = len2 > 0 ? std::clamp(((x - x0) * dx + (y - y0) * dy) / len2, 0.0, 1.0) : 0.0;
-      if (std::hypot(x0 + u * dx - x, y0 + u * dy - y) > tol) continue;
-      // Finished only at its end within MPos's rounding: a hold can stop a move one step
-      // short, and that move is then drawn again.
-      constexpr double at_end = 0.003;
-      return std::hypot(x1 - x, y1 - y) <= at_end ? static_cast<long>(line) : static_cast<long>(line) - 1;
-    }
+      if (std::hypot(x0 + u * dx - x, y0 + u * dy - y) > tol) return 0;
+      return std::hypot(x1 - x, y1 - y) <= 0.003 ? 2 : 1;
+    };
+    for (long line : acked_motion_)
+      if (const int at = on(static_cast<size_t>(line))) return at == 2 ? line : line - 1;
+    // Short of the end of a move the last sync line's answer called done: a reset ended
+    // that sync's wait for the planner, and grbl answered ok all the same (seen on the
+    // real firmware: an outside reset in mid-stroke, the stroke's M5 answered before ALARM:3).
+    for (long line : before_sync_)
+      if (on(static_cast<size_t>(line)) == 1) return line - 1;
     return -2;
   }
 
@@ -499,6 +505,7 @@ class Streamer::JobRun {
   LineWindow window_;
   size_t next_ = 0;                 // next item to send
   std::deque<long> acked_motion_;   // acknowledged motion lines not yet known executed
+  std::deque<long> before_sync_;    // the moves the last sync line's answer called executed
   size_t motion_acked_ = 0;         // moves acknowledged in all (acked_motion_ keeps the last)
   long last_sync_acked_ = -1;       // the last sync line answered: everything up to it ran
   Snapshot snapshot_{0, session_.result().last_acked, -1};
