@@ -31,6 +31,13 @@ bool is_dwell_line(const std::string& text) {
 
 bool pen_down_before(const std::vector<JobLine>& L, size_t k) { return k == 0 ? false : L[k - 1].pen_down; }
 
+struct Point {
+  double x = 0, y = 0;
+};
+
+// Where line k starts: where line k - 1 leaves the pen (machine zero before the first).
+Point start_of(const std::vector<JobLine>& L, size_t k) { return k ? Point{L[k - 1].x, L[k - 1].y} : Point{}; }
+
 // A resume point right after the pen went down, before it moved: for a dot, the dot is
 // finished by the lift (skip to after its pen-up); for a stroke, start the stroke again
 // from its pen-down line.
@@ -52,7 +59,8 @@ size_t settle_resume_point(const Job& job, size_t next) {
 
 // G-code: the job's own pen commands (with the dwell that follows them), the modal
 // state at the resume point, and the travel there.
-std::vector<std::string> gcode_preamble(const std::vector<JobLine>& L, size_t next) {
+// `to` is where to travel (where line next - 1 ends, or a point on line next's path).
+std::vector<std::string> gcode_preamble(const std::vector<JobLine>& L, size_t next, Point to) {
   GcodeModes modes;
   double feed = 0;  // in program units, as the job wrote it
   long pen_up = -1, pen_down = -1;
@@ -79,7 +87,7 @@ std::vector<std::string> gcode_preamble(const std::vector<JobLine>& L, size_t ne
   if (pen_up < 0) throw UserError("cannot resume: the job never lifts the pen, so there is no pen-up command to use");
   with_dwell(pen_up);
   char buf[128];
-  std::snprintf(buf, sizeof buf, "G0 X%.4f Y%.4f", next ? L[next - 1].x : 0.0, next ? L[next - 1].y : 0.0);
+  std::snprintf(buf, sizeof buf, "G0 X%.4f Y%.4f", to.x, to.y);
   pre.push_back(buf);
   if (pen_down_before(L, next)) with_dwell(pen_down);
   if (modes.scale != 1) pre.push_back("G20");
@@ -95,7 +103,7 @@ std::vector<std::string> gcode_preamble(const std::vector<JobLine>& L, size_t ne
 }
 
 // HPGL: lift, the pen and velocity in use, travel, and the pen down again if it was.
-std::vector<std::string> hpgl_preamble(const std::vector<JobLine>& L, size_t next) {
+std::vector<std::string> hpgl_preamble(const std::vector<JobLine>& L, size_t next, Point to) {
   std::string sp, vs;
   for (size_t k = 0; k < next; ++k) {
     if (L[k].text.rfind("SP", 0) == 0) sp = L[k].text;
@@ -105,7 +113,7 @@ std::vector<std::string> hpgl_preamble(const std::vector<JobLine>& L, size_t nex
   if (!sp.empty()) pre.push_back(sp);
   if (!vs.empty()) pre.push_back(vs);
   char buf[128];
-  std::snprintf(buf, sizeof buf, "PA;PU%.10g,%.10g;", next ? L[next - 1].x : 0.0, next ? L[next - 1].y : 0.0);
+  std::snprintf(buf, sizeof buf, "PA;PU%.10g,%.10g;", to.x, to.y);
   pre.push_back(buf);
   if (pen_down_before(L, next)) pre.push_back("PD;");
   return pre;
@@ -121,15 +129,17 @@ ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device) {
   if (in_place && job.dialect == Dialect::GCode) {
     // Pen already as it was: only the modal state needs restoring (as a full resume
     // from the settled point would restore it).
-    ResumePlan rp{next, {}, {}};
-    for (const auto& l : gcode_preamble(L, settle_resume_point(job, next)))
+    ResumePlan rp{next, {}, {}, 0, {}};
+    const size_t settled = settle_resume_point(job, next);
+    for (const auto& l : gcode_preamble(L, settled, start_of(L, settled)))
       if (l == "G21" || l == "G90" || l == "G20" || l == "G0" || l == "G1" || l.rfind("G1 F", 0) == 0 ||
           l.rfind("G0 F", 0) == 0)
         rp.preamble.push_back(l);
     return rp;
   }
   next = settle_resume_point(job, next);
-  return {next, job.dialect == Dialect::GCode ? gcode_preamble(L, next) : hpgl_preamble(L, next), {}};
+  const Point to = start_of(L, next);
+  return {next, job.dialect == Dialect::GCode ? gcode_preamble(L, next, to) : hpgl_preamble(L, next, to), {}, 0, {}};
 }
 
 namespace {
@@ -152,30 +162,128 @@ bool device_within(const std::vector<JobLine>& L, size_t k, const DevicePen& d, 
   return u < 1 && u * std::sqrt(len2) > tol && std::hypot(x0 + u * dx - d.x, y0 + u * dy - d.y) < tol;
 }
 
-}  // namespace
-
-size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window) {
+// The first line of the window from which the device's pen continues, or -1 if its pen
+// matches nothing there (a board that came back fresh: its position is gone). `lo` is
+// the window's first line. O(window).
+long device_match(const Job& job, size_t next, const DevicePen& device, const ResumeWindow& window, size_t& lo) {
   const auto& L = job.lines;
-  const size_t next = std::min(static_cast<size_t>(journal.last_acked + 1), L.size());
-  if (journal.stopped || !device.known || (window.ahead_bytes == 0 && window.back_moves == 0)) return next;
   const double tol = job.dialect == Dialect::GCode ? 0.02 : 0.6;  // mm (a couple of steps); plotter units
-  size_t lo = next;
+  lo = next;
   for (size_t moves = 0; lo > 0 && moves < window.back_moves; --lo) moves += L[lo - 1].motion;
   size_t bytes = 0;
   for (size_t k = lo; k <= L.size(); ++k) {
-    if (device_before(L, k, device, tol)) return k;
+    if (device_before(L, k, device, tol)) return static_cast<long>(k);
     if (k == L.size()) break;
-    if (device_within(L, k, device, tol)) return k;
+    if (device_within(L, k, device, tol)) return static_cast<long>(k);
     if (k >= next && (bytes += L[k].host_only ? 0 : L[k].text.size() + window.line_end_bytes) > window.ahead_bytes) break;
   }
-  return lo;
+  return -1;
 }
+
+// Where to go on from the journal's last proof: its line, and the point on that line's
+// path (projected onto it) if it lies inside a pen-down move, else the line's start.
+// Empty `why` when the proof is usable; else why not. O(1).
+struct ProofStart {
+  size_t line = 0;
+  bool split = false;
+  Point at;
+  std::string why;
+};
+ProofStart proof_start(const Job& job, const JournalState& journal) {
+  const auto& L = job.lines;
+  const ProvenPoint& p = journal.proven;
+  ProofStart ps;
+  if (p.line < 0) return {0, false, {}, "no status report proved a position"};
+  if (p.line > journal.last_acked || static_cast<size_t>(p.line) >= L.size())
+    return {0, false, {}, "the last proof (line " + std::to_string(p.line + 1) + ") is past the acknowledged lines"};
+  ps.line = static_cast<size_t>(p.line);
+  const Point a = start_of(L, ps.line);
+  const double dx = L[ps.line].x - a.x, dy = L[ps.line].y - a.y, len = std::hypot(dx, dy);
+  const double u = len > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / (len * len), 0.0, 1.0) : 0.0;
+  const double tol = job.dialect == Dialect::GCode ? 0.02 : 0.6;
+  if (std::hypot(a.x + u * dx - p.x, a.y + u * dy - p.y) > tol)
+    return {0, false, {}, "the last proof does not lie on line " + std::to_string(p.line + 1) + "'s path"};
+  if (len > 0 && u * len > tol && std::hypot(L[ps.line].x - p.x, L[ps.line].y - p.y) <= 0.003) {
+    ++ps.line;  // at its end: the line is done
+  } else if (len > 0 && u * len > tol && L[ps.line].motion && pen_down_before(L, ps.line)) {
+    ps.split = true;
+    ps.at = {a.x + u * dx, a.y + u * dy};
+  }
+  return ps;
+}
+
+// Pen-down path from `at` on line `from` (its start unless split) to the end of line
+// `upto`: the most a resume from there draws again. O(upto - from).
+double pen_down_length(const std::vector<JobLine>& L, size_t from, bool split, Point at, long upto) {
+  double len = 0;
+  for (size_t k = from; static_cast<long>(k) <= upto && k < L.size(); ++k) {
+    const Point a = k == from && split ? at : start_of(L, k);
+    if (L[k].motion && pen_down_before(L, k)) len += std::hypot(L[k].x - a.x, L[k].y - a.y);
+  }
+  return len;
+}
+
+}  // namespace
+
+size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window) {
+  const size_t next = std::min(static_cast<size_t>(journal.last_acked + 1), job.lines.size());
+  if (journal.stopped || !device.known || (window.ahead_bytes == 0 && window.back_moves == 0)) return next;
+  size_t lo = next;
+  const long k = device_match(job, next, device, window, lo);
+  return k >= 0 ? static_cast<size_t>(k) : lo;
+}
+
+ResumePlan plan_resume_within(const Job& job, size_t line, double x, double y) {
+  const auto& L = job.lines;
+  if (line >= L.size() || !L[line].motion || !pen_down_before(L, line)) return plan_resume(job, line);
+  const Point to{x, y};
+  return {line, job.dialect == Dialect::GCode ? gcode_preamble(L, line, to) : hpgl_preamble(L, line, to), {}, 0, {}};
+}
+
+namespace {
+
+// The device came back fresh (its pen matches nothing the journal allows): the last
+// proof, when the journal has one that is consistent and later than the window's start;
+// else the window's start, as before proofs were journalled. O(window).
+ResumePlan resume_fresh(const Job& job, const JournalState& journal, size_t lo) {
+  const ProofStart ps = proof_start(job, journal);
+  const bool use = ps.why.empty() && (ps.line > lo || (ps.line == lo && ps.split));
+  ResumePlan rp = use ? plan_resume_within(job, ps.line, ps.at.x, ps.at.y) : plan_resume(job, lo);
+  rp.redraw = pen_down_length(job.lines, rp.next, use && ps.split, ps.at, journal.last_acked);
+  if (use) {
+    char b[160];
+    std::snprintf(b, sizeof b, "from the last status report before the loss (line %zu%s)", ps.line + 1,
+                  ps.split ? ", split where the pen stood" : "");
+    rp.why = b;
+  } else {
+    rp.why = "from the first line the device may not have run (" +
+             (ps.why.empty() ? "the last status report proved less" : ps.why) + ")";
+  }
+  return rp;
+}
+
+}  // namespace
 
 ResumePlan resume_from_journal(const Job& job, const JournalState& journal, const DevicePen& device,
                                const ResumeWindow& window) {
-  const size_t from = resume_point(job, journal, device, window);
+  const auto& L = job.lines;
+  const size_t after = std::min(static_cast<size_t>(journal.last_acked + 1), L.size());
+  size_t lo = after;
+  const bool look = !journal.stopped && device.known && (window.ahead_bytes > 0 || window.back_moves > 0);
+  const long match = look ? device_match(job, after, device, window, lo) : static_cast<long>(after);
+  if (match < 0) {
+    ResumePlan rp = resume_fresh(job, journal, lo);
+    rp.note = "the device's pen matches nothing the journal allows (it came back fresh): resuming at line " +
+              std::to_string(rp.next + 1) + ", " + rp.why;
+    return rp;
+  }
+  const size_t from = static_cast<size_t>(match);
   ResumePlan rp = plan_resume(job, from, device);
-  const size_t after = static_cast<size_t>(journal.last_acked + 1);
+  // A stop that dropped the buffers rolled the line under way back: it may be redrawn.
+  rp.redraw = pen_down_length(L, rp.next, false, {}, journal.stopped ? journal.last_acked + 1 : journal.last_acked);
+  rp.why = journal.stopped ? "the device stopped with its buffers dropped: from the line it had under way"
+           : look          ? "from where the device's pen stands"
+                           : "from the line after the last the device acknowledged";
   if (from != after)
     rp.note = "the journal ends at line " + std::to_string(after) + " but the device's pen is where line " +
               std::to_string(from) + " left it" + (from > after ? " (it ran on after the host)" : "") +

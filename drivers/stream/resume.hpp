@@ -12,6 +12,10 @@ struct ResumePlan {
   size_t next = 0;                    // first job line to send after the preamble
   std::vector<std::string> preamble;  // lines to send first
   std::string note;                   // why it is not the line after the journal's last, if it is not
+  // The most pen-down path it may draw again (job units: mm, HPGL plotter units), and why
+  // it starts there (resume_from_journal only).
+  double redraw = 0;
+  std::string why;
 };
 
 // What the device reports about its pen, when it can (grbl: spindle speed and Z from a
@@ -29,6 +33,11 @@ struct DevicePen {
 // moved. Throws UserError for a job it cannot resume (G91, no pen-up command).
 // O(job size).
 ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device = {});
+
+// Continues inside job line `line` from (x, y), a point on its path: travels there pen up,
+// puts the pen down, and sends the line itself (absolute, so it draws from there to its
+// end). A line that draws nothing resumes from its start (plan_resume). O(job size).
+ResumePlan plan_resume_within(const Job& job, size_t line, double x, double y);
 
 // How far the device may be from the journal when the host did not stop it (killed,
 // link lost): lines it may have run that the journal never heard of (its receive buffer
@@ -49,7 +58,11 @@ struct ResumeWindow {
 size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window);
 
 // What `plot --resume` does once the device is connected and idle: resume_point, then
-// plan_resume from there.
+// plan_resume from there. A device whose pen matches nothing there came back fresh (a
+// power loss: position gone or re-zeroed): it resumes from the journal's last proven
+// point (a status report's position, the line split there) when that is consistent and
+// later than the window's first line, else from that first line. The plan says how much
+// pen-down path it may draw again and why. O(window + job size).
 ResumePlan resume_from_journal(const Job& job, const JournalState& journal, const DevicePen& device = {},
                                const ResumeWindow& window = {});
 

@@ -461,7 +461,7 @@ io::StreamResult run_grbl(const PlotArgs& A, PlotJob& pj, io::Transport& port, i
     }
     A.log("check mode: all " + std::to_string(job.lines.size()) + " lines accepted");
   }
-  io::ResumePlan rp{pj.start(), {}, {}};
+  io::ResumePlan rp{pj.start(), {}, {}, 0, {}};
   if (pj.resuming) rp = resume_plan(A, pj, st.device_pen(pj.pen_rule), st.resume_window());
   return st.stream(job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
@@ -473,7 +473,7 @@ io::StreamResult run_hpgl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
   o.on_pause = [&A](const io::PauseRequest& p) { return answer_pause(A, p); };
   io::hpgl::Streamer st(port, o);
   st.connect();
-  io::ResumePlan rp{pj.start(), {}, {}};
+  io::ResumePlan rp{pj.start(), {}, {}, 0, {}};
   if (pj.resuming) rp = resume_plan(A, pj, st.device_pen(), st.resume_window());
   return st.stream(pj.job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
