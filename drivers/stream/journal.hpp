@@ -14,9 +14,10 @@ struct JournalHeader {
   size_t total_lines = 0;
 };
 
-// What a status report proved: the device stood at (x, y, z) on the path of job line
+// What the device proved it had done: it stood at (x, y, z) on the path of job line
 // `line` (from where line - 1 leaves the pen to where `line` does), so everything the job
-// draws before that point was drawn. Coordinates in the job's units.
+// draws before that point was drawn. From a status report's position on the acknowledged
+// lines, or a sync line's answer (then the start of the line after it). Job units.
 struct ProvenPoint {
   long line = -1;  // -1: nothing proved
   double x = 0, y = 0, z = 0;
@@ -26,7 +27,7 @@ struct ProvenPoint {
 struct JournalState {
   JournalHeader header;
   long last_acked = -1;  // index of the last line the device acknowledged
-  ProvenPoint proven;    // the last point a status report proved drawn up to
+  ProvenPoint proven;    // the last point the device proved drawn up to
   bool complete = false;
   bool torn = false;     // the last record was cut short (a crash mid-write): ignored
   // The session ended with the device's buffers dropped (a reset, ESC.K): it runs no
@@ -53,7 +54,7 @@ class Journal {
   Journal(const Journal&) = delete;
   Journal& operator=(const Journal&) = delete;
   void ack(size_t line);
-  // A status report proved the device drew up to this point: written at once, made
+  // The device proved it drew up to this point: written at once, made
   // durable with the acks (the sync interval), never fsync'd on its own.
   void proven(const ProvenPoint& p);
   // Moves the acknowledged point back (after an abort: acked lines the device

@@ -194,7 +194,9 @@ ProofStart proof_start(const Job& job, const JournalState& journal) {
   const ProvenPoint& p = journal.proven;
   ProofStart ps;
   if (p.line < 0) return {0, false, {}, "no status report proved a position"};
-  if (p.line > journal.last_acked || static_cast<size_t>(p.line) >= L.size())
+  // The line under way is at most the first one not acknowledged (a sync line's answer
+  // proves the next one's start).
+  if (p.line > journal.last_acked + 1 || static_cast<size_t>(p.line) >= L.size())
     return {0, false, {}, "the last proof (line " + std::to_string(p.line + 1) + ") is past the acknowledged lines"};
   ps.line = static_cast<size_t>(p.line);
   const Point a = start_of(L, ps.line);
@@ -248,16 +250,16 @@ namespace {
 ResumePlan resume_fresh(const Job& job, const JournalState& journal, size_t lo) {
   const ProofStart ps = proof_start(job, journal);
   const bool use = ps.why.empty() && (ps.line > lo || (ps.line == lo && ps.split));
-  ResumePlan rp = use ? plan_resume_within(job, ps.line, ps.at.x, ps.at.y) : plan_resume(job, lo);
+  ResumePlan rp = use && ps.split ? plan_resume_within(job, ps.line, ps.at.x, ps.at.y) : plan_resume(job, use ? ps.line : lo);
   rp.redraw = pen_down_length(job.lines, rp.next, use && ps.split, ps.at, journal.last_acked);
   if (use) {
     char b[160];
-    std::snprintf(b, sizeof b, "from the last status report before the loss (line %zu%s)", ps.line + 1,
-                  ps.split ? ", split where the pen stood" : "");
+    std::snprintf(b, sizeof b, "from the last point proved drawn before the loss (line %zu%s)", ps.line + 1,
+                  ps.split ? ", split where a status report saw the pen" : "");
     rp.why = b;
   } else {
     rp.why = "from the first line the device may not have run (" +
-             (ps.why.empty() ? "the last status report proved less" : ps.why) + ")";
+             (ps.why.empty() ? "the last proof is earlier" : ps.why) + ")";
   }
   return rp;
 }
@@ -270,7 +272,12 @@ ResumePlan resume_from_journal(const Job& job, const JournalState& journal, cons
   const size_t after = std::min(static_cast<size_t>(journal.last_acked + 1), L.size());
   size_t lo = after;
   const bool look = !journal.stopped && device.known && (window.ahead_bytes > 0 || window.back_moves > 0);
-  const long match = look ? device_match(job, after, device, window, lo) : static_cast<long>(after);
+  // A board that lost its planner and stands at machine zero, pen up, was powered on
+  // (or re-zeroed) there: that the job also passes there proves nothing (the job's
+  // closing travel home would read as "it ran to the end").
+  const bool zeroed = look && window.back_moves > 0 && !device.down && std::hypot(device.x, device.y) < 0.02;
+  long match = look ? device_match(job, after, device, window, lo) : static_cast<long>(after);
+  if (zeroed) match = -1;
   if (match < 0) {
     ResumePlan rp = resume_fresh(job, journal, lo);
     rp.note = "the device's pen matches nothing the journal allows (it came back fresh): resuming at line " +

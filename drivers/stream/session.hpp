@@ -26,7 +26,7 @@ class StreamSession {
 
   // The device has done job line `line`.
   void acknowledge(long line);
-  // A status report proved the device drew up to this point (journalled).
+  // The device proved it drew up to this point (journalled).
   void proven(const ProvenPoint& p);
   // Calls the progress callback: `items_sent` items are out, the device last said this,
   // and has executed the job's lines up to `executed` (by default: all acknowledged ones,

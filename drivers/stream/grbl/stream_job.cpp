@@ -225,6 +225,7 @@ class Streamer::JobRun {
       // acknowledged moves are executed.
       last_sync_acked_ = line;
       acked_motion_.clear();
+      prove_sync(static_cast<size_t>(line));
       return;
     }
     if (session_.job().lines[static_cast<size_t>(line)].motion) {
@@ -476,6 +477,20 @@ class Streamer::JobRun {
       session_.proven(p);
       return;
     }
+  }
+
+  // A sync line's answer proves it ran, and everything before it: the next line starts
+  // where it leaves the pen. Not for a line that lowers the pen (its answer comes before
+  // the pen rests on the paper: a dot is made by the dwell after it) nor one that also
+  // moves (grbl syncs before the line's own motion). O(1).
+  void prove_sync(size_t line) {
+    const auto& L = session_.job().lines;
+    const bool lowers = L[line].pen_down && !(line > 0 && L[line - 1].pen_down);
+    if (lowers || L[line].motion || line + 1 >= L.size()) return;
+    const ProvenPoint p{static_cast<long>(line) + 1, L[line].x, L[line].y, s_.last_status_.z};
+    if (p.line <= proof_.line) return;
+    proof_ = p;
+    session_.proven(p);
   }
 
   // After grbl lost its buffers: the journal and the result go back to what was
