@@ -254,7 +254,7 @@ ResumePlan resume_fresh(const Job& job, const JournalState& journal, size_t lo) 
   rp.redraw = pen_down_length(job.lines, rp.next, use && ps.split, ps.at, journal.last_acked);
   if (use) {
     char b[160];
-    std::snprintf(b, sizeof b, "from the last point proved drawn before the loss (line %zu%s)", ps.line + 1,
+    std::snprintf(b, sizeof b, "from the last point proved drawn before the loss (at line %zu%s)", ps.line + 1,
                   ps.split ? ", split where a status report saw the pen" : "");
     rp.why = b;
   } else {
