@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/segments.hpp"
 #include "util/error.hpp"
 
 namespace stipplot::io {
@@ -180,6 +181,15 @@ long device_match(const Job& job, size_t next, const DevicePen& device, const Re
   return -1;
 }
 
+// The first line within window.unproven_bytes of the journal's end (`after` without
+// any). O(window).
+size_t unproven_start(const std::vector<JobLine>& L, size_t after, const ResumeWindow& window) {
+  size_t lo = after;
+  for (size_t bytes = 0; lo > 0 && bytes < window.unproven_bytes; --lo)
+    bytes += L[lo - 1].host_only ? 0 : L[lo - 1].text.size() + window.line_end_bytes;
+  return lo;
+}
+
 // Where to go on from the journal's last proof: its line, and the point on that line's
 // path (projected onto it) if it lies inside a pen-down move, else the line's start.
 // Empty `why` when the proof is usable; else why not. O(1).
@@ -214,15 +224,23 @@ ProofStart proof_start(const Job& job, const JournalState& journal) {
   return ps;
 }
 
-// Pen-down path from `at` on line `from` (its start unless split) to the end of line
-// `upto`: the most a resume from there draws again. O(upto - from).
-double pen_down_length(const std::vector<JobLine>& L, size_t from, bool split, Point at, long upto) {
+// The pen-down length job lines [0, n) draw. O(job size).
+double drawn_length(const Job& job, size_t n) {
+  Job head;
+  head.dialect = job.dialect;
+  head.lines.assign(job.lines.begin(), job.lines.begin() + static_cast<long>(std::min(n, job.lines.size())));
   double len = 0;
-  for (size_t k = from; static_cast<long>(k) <= upto && k < L.size(); ++k) {
-    const Point a = k == from && split ? at : start_of(L, k);
-    if (L[k].motion && pen_down_before(L, k)) len += std::hypot(L[k].x - a.x, L[k].y - a.y);
-  }
+  for (const Segment& s : job_segments(head)) len += std::hypot(s.x1 - s.x0, s.y1 - s.y0);
   return len;
+}
+
+// Pen-down path from `at` on line `from` (its start unless split) to the end of line
+// `upto`: the most a resume from there draws again. O(job size).
+double pen_down_length(const Job& job, size_t from, bool split, Point at, long upto) {
+  if (upto < static_cast<long>(from)) return 0;
+  double len = drawn_length(job, static_cast<size_t>(upto) + 1) - drawn_length(job, from);
+  if (split) len -= std::hypot(at.x - start_of(job.lines, from).x, at.y - start_of(job.lines, from).y);
+  return std::max(0.0, len);
 }
 
 }  // namespace
@@ -251,7 +269,7 @@ ResumePlan resume_fresh(const Job& job, const JournalState& journal, size_t lo) 
   const ProofStart ps = proof_start(job, journal);
   const bool use = ps.why.empty() && (ps.line > lo || (ps.line == lo && ps.split));
   ResumePlan rp = use && ps.split ? plan_resume_within(job, ps.line, ps.at.x, ps.at.y) : plan_resume(job, use ? ps.line : lo);
-  rp.redraw = pen_down_length(job.lines, rp.next, use && ps.split, ps.at, journal.last_acked);
+  rp.redraw = pen_down_length(job, rp.next, use && ps.split, ps.at, journal.last_acked);
   if (use) {
     char b[160];
     std::snprintf(b, sizeof b, "from the last point proved drawn before the loss (at line %zu%s)", ps.line + 1,
@@ -272,22 +290,24 @@ ResumePlan resume_from_journal(const Job& job, const JournalState& journal, cons
   const size_t after = std::min(static_cast<size_t>(journal.last_acked + 1), L.size());
   size_t lo = after;
   const bool look = !journal.stopped && device.known && (window.ahead_bytes > 0 || window.back_moves > 0);
+  // A paced HPGL plotter that does not say where its pen is may have lost its buffer.
+  const bool unknown = !journal.stopped && !device.known && window.unproven_bytes > 0;
   // A board that lost its planner and stands at machine zero, pen up, was powered on
   // (or re-zeroed) there: that the job also passes there proves nothing (the job's
   // closing travel home would read as "it ran to the end").
   const bool zeroed = look && window.back_moves > 0 && !device.down && std::hypot(device.x, device.y) < 0.02;
   long match = look ? device_match(job, after, device, window, lo) : static_cast<long>(after);
-  if (zeroed) match = -1;
+  if (zeroed || unknown) match = -1;
   if (match < 0) {
-    ResumePlan rp = resume_fresh(job, journal, lo);
-    rp.note = "the device's pen matches nothing the journal allows (it came back fresh): resuming at line " +
-              std::to_string(rp.next + 1) + ", " + rp.why;
+    ResumePlan rp = resume_fresh(job, journal, std::min(lo, unproven_start(L, after, window)));
+    rp.note = std::string(unknown ? "the device cannot say where its pen is" : "the device's pen matches nothing the journal allows") +
+              " (it may have come back fresh, its buffers lost): resuming at line " + std::to_string(rp.next + 1) + ", " + rp.why;
     return rp;
   }
   const size_t from = static_cast<size_t>(match);
   ResumePlan rp = plan_resume(job, from, device);
   // A stop that dropped the buffers rolled the line under way back: it may be redrawn.
-  rp.redraw = pen_down_length(L, rp.next, false, {}, journal.stopped ? journal.last_acked + 1 : journal.last_acked);
+  rp.redraw = pen_down_length(job, rp.next, false, {}, journal.stopped ? journal.last_acked + 1 : journal.last_acked);
   rp.why = journal.stopped ? "the device stopped with its buffers dropped: from the line it had under way"
            : look          ? "from where the device's pen stands"
                            : "from the line after the last the device acknowledged";

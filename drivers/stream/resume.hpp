@@ -47,6 +47,10 @@ struct ResumeWindow {
   size_t ahead_bytes = 0;
   size_t back_moves = 0;
   size_t line_end_bytes = 1;  // what ends a line on the wire ('\n'; none between HPGL instructions)
+  // Acknowledged lines within this many bytes of the journal's end may never have run on
+  // a device that came back fresh: an HPGL plotter paced by XON/XOFF or RTS/CTS, whose
+  // acknowledgement is the write, loses its buffer with the power.
+  size_t unproven_bytes = 0;
 };
 
 // The first line to resume from. After a stop that dropped the device's buffers (the

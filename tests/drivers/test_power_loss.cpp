@@ -9,13 +9,16 @@
 #include <fstream>
 
 #include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/hpgl_reader.hpp"
 #include "drivers/job/segments.hpp"
 #include "drivers/stream/grbl/streamer.hpp"
+#include "drivers/stream/hpgl/streamer.hpp"
 #include "drivers/stream/journal.hpp"
 #include "drivers/stream/resume.hpp"
 #include "drivers/transport/posix_serial.hpp"
 #include "jobgen.hpp"
 #include "sim/grbl_sim.hpp"
+#include "sim/hpgl_sim.hpp"
 
 using namespace stipplot;
 using namespace stipplot::io;
@@ -143,6 +146,8 @@ PowerLoss plot_through_power_loss(const Job& job, double loss_s, const std::stri
 
 }  // namespace
 
+namespace {
+
 // Many short strokes (a tree's, a sketch's): pen lifts between them, so grbl's planner
 // holds the current stroke only, and a window of 15 moves reaches back over strokes a
 // pen command's answer proved drawn.
@@ -156,6 +161,10 @@ testjob::Strokes pl_short_strokes() {
   return s;
 }
 
+}  // namespace
+
+namespace {
+
 // Strokes of three 25 mm moves: grbl's planner runs out within each stroke, and a status
 // report lands mid-move, where the resume splits the line.
 testjob::Strokes pl_long_moves() {
@@ -164,6 +173,8 @@ testjob::Strokes pl_long_moves() {
     s.push_back({{10.0 + 6 * i, 10}, {35.0 + 6 * i, 10 + 2.0 * i}, {35.0 + 6 * i, 35 + 2.0 * i}, {10.0 + 6 * i, 40}});
   return s;
 }
+
+}  // namespace
 
 TEST_CASE("power loss mid-stroke: resume from the last proof, nothing lost, little redrawn",
           "[drivers][grbl][resume][power]") {
@@ -176,7 +187,7 @@ TEST_CASE("power loss mid-stroke: resume from the last proof, nothing lost, litt
       const PowerScore& s = pl.score;
       JournalState unproved = pl.journal;  // as journals were before proofs
       unproved.proven = {};
-      const ResumePlan before = resume_from_journal(job, unproved, {true, false, 0, 0}, {128, 15, 1});
+      const ResumePlan before = resume_from_journal(job, unproved, {true, false, 0, 0}, {128, 15, 1, 0});
       std::printf("power loss at %.0f%% of a %.0f mm job of %s: resumed at line %zu, lost %.3f mm, redrawn %.2f mm "
                   "(plan: at most %.2f mm, %s; without proofs: line %zu, at most %.2f mm), stray %zu\n",
                   100 * at, s.planned_mm, names[kind], pl.plan.next + 1, s.lost_mm,
@@ -208,6 +219,75 @@ TEST_CASE("power loss in a dot job: no dot lost, at most one drawn twice", "[dri
   }
 }
 
+namespace {
+
+// An HPGL plotter paced by XON/XOFF: a line counts as acknowledged once written, so up to
+// a buffer (1 KB) of it may be undrawn when the power goes. ESC.B polls while writing
+// prove what the plotter has taken; the resume starts at the first line not wholly taken.
+PowerLoss plot_hpgl_through_power_loss(const Job& job, double loss_s) {
+  sim::HpglSimConfig c;
+  c.xonxoff = true;
+  c.speedup = 8;
+  c.xoff_free = 384;  // room for what is in flight when XOFF leaves (the host's reaction is scaled 8x)
+  c.xon_free = 640;
+  c.link.baud = 115200;
+  c.faults.power_loss_after_s = loss_s;
+  sim::HpglSim sim(c);
+  hpgl::Options o;
+  o.handshake = HpglHandshake::xonxoff;
+  o.newline = true;
+  o.proof_interval = Millis(25);  // 0.2 s of device time
+  const std::string jpath = pl_temp_path("hpgl.journal");
+  {
+    PosixSerial port(sim.open_pty(), {});
+    port.pace(115200 / 10.0 * 8);
+    hpgl::Streamer st(port, o);
+    st.connect();
+    JournalHeader h;
+    h.total_lines = job.lines.size();
+    Journal journal(jpath, h);
+    CHECK_THROWS_AS(st.stream(job, 0, {}, &journal), TransportError);
+  }
+  PowerLoss out;
+  out.journal = Journal::load(jpath);
+  PosixSerial port(sim.open_pty(), {});
+  port.pace(115200 / 10.0 * 8);
+  hpgl::Streamer st(port, o);
+  st.connect();
+  out.plan = resume_from_journal(job, out.journal, st.device_pen(), st.resume_window());
+  {
+    Journal journal(jpath, {}, true);
+    CHECK(st.stream(job, out.plan.next, out.plan.preamble, &journal).completed);
+  }
+  REQUIRE(sim.wait_idle(30));
+  out.score = score_drawing(job, sim.record());
+  std::filesystem::remove(jpath);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("power loss on an HPGL plotter paced by XON/XOFF: nothing lost, resumed from what left its buffer",
+          "[drivers][hpgl][resume][power]") {
+  const Job job = parse_hpgl_job(testjob::hpgl(pl_short_strokes()));
+  constexpr double upm = 40;  // plotter units a mm (jobgen's)
+  for (const double at : {0.3, 0.55, 0.8}) {
+    const PowerLoss pl = plot_hpgl_through_power_loss(job, at * job.est_total_s);
+    const PowerScore& s = pl.score;
+    std::printf("HPGL power loss at %.0f%% of a %.0f mm job: resumed at line %zu, lost %.3f mm, redrawn %.2f mm "
+                "(plan: at most %.2f mm, %s), stray %zu\n",
+                100 * at, s.planned_mm / upm, pl.plan.next + 1, s.lost_mm / upm, s.redrawn_mm / upm, pl.plan.redraw / upm,
+                pl.plan.why.c_str(), s.stray);
+    INFO("at " << at << ": " << pl.plan.note);
+    CHECK(pl.journal.proven.line >= 0);
+    CHECK(s.lost_mm / upm < 0.01);
+    CHECK(s.stray == 0);
+    // An instruction is the unit: what the plotter finished since the last poll (0.2 s of
+    // device time) is drawn again, whole strokes here (at most 20 mm each).
+    CHECK(s.redrawn_mm / upm <= 40);
+  }
+}
+
 // lines: 0 G21, 1 G90, 2 M5, 3 G0 X10 Y10, 4 M3 S30, 5 G1 X20 Y10 F600, 6 G1 X20 Y20,
 //        7 G1 X10 Y20, 8 M5, 9 G0 X0 Y0
 TEST_CASE("resume after a fresh board: the proof splits the line, an inconsistent proof falls back",
@@ -215,7 +295,7 @@ TEST_CASE("resume after a fresh board: the proof splits the line, an inconsisten
   const Job job = parse_gcode_job("G21\nG90\nM5\nG0 X10 Y10\nM3 S30\nG1 X20 Y10 F600\nG1 X20 Y20\nG1 X10 Y20\nM5\nG0 X0 Y0\n");
   REQUIRE(job.lines.size() == 10);
   const DevicePen fresh{true, false, 0, 0};   // re-zeroed at the origin, pen up
-  const ResumeWindow grbl_window{128, 3, 1};  // its planner lost (3 blocks, so the window starts at line 6)
+  const ResumeWindow grbl_window{128, 3, 1, 0};  // its planner lost (3 blocks, so the window starts at line 6)
   JournalState js;
   js.last_acked = 7;
   js.proven = {6, 20.001, 13.5, 0};  // a status report on line 7 (G1 X20 Y20), 3.5 mm along
