@@ -203,7 +203,7 @@ ProofStart proof_start(const Job& job, const JournalState& journal) {
   const auto& L = job.lines;
   const ProvenPoint& p = journal.proven;
   ProofStart ps;
-  if (p.line < 0) return {0, false, {}, "no status report proved a position"};
+  if (p.line < 0) return {0, false, {}, "the journal holds no proof"};
   // The line under way is at most the first one not acknowledged (a sync line's answer
   // proves the next one's start).
   if (p.line > journal.last_acked + 1 || static_cast<size_t>(p.line) >= L.size())
@@ -212,12 +212,16 @@ ProofStart proof_start(const Job& job, const JournalState& journal) {
   const Point a = start_of(L, ps.line);
   const double dx = L[ps.line].x - a.x, dy = L[ps.line].y - a.y, len = std::hypot(dx, dy);
   const double u = len > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / (len * len), 0.0, 1.0) : 0.0;
-  const double tol = job.dialect == Dialect::GCode ? 0.02 : 0.6;
-  if (std::hypot(a.x + u * dx - p.x, a.y + u * dy - p.y) > tol)
+  const bool gcode = job.dialect == Dialect::GCode;
+  const double tol = gcode ? 0.02 : 0.6;  // mm (a couple of steps); plotter units
+  const bool at_start = std::hypot(p.x - a.x, p.y - a.y) <= tol;
+  // An HPGL instruction may be a polyline: only its start or end can be a proof.
+  if (std::hypot(a.x + u * dx - p.x, a.y + u * dy - p.y) > tol ||
+      (!gcode && !at_start && std::hypot(L[ps.line].x - p.x, L[ps.line].y - p.y) > tol))
     return {0, false, {}, "the last proof does not lie on line " + std::to_string(p.line + 1) + "'s path"};
-  if (len > 0 && u * len > tol && std::hypot(L[ps.line].x - p.x, L[ps.line].y - p.y) <= 0.003) {
+  if (len > 0 && !at_start && std::hypot(L[ps.line].x - p.x, L[ps.line].y - p.y) <= (gcode ? 0.003 : tol)) {
     ++ps.line;  // at its end: the line is done
-  } else if (len > 0 && u * len > tol && L[ps.line].motion && pen_down_before(L, ps.line)) {
+  } else if (gcode && len > 0 && u * len > tol && L[ps.line].motion && pen_down_before(L, ps.line)) {
     ps.split = true;
     ps.at = {a.x + u * dx, a.y + u * dy};
   }
@@ -263,11 +267,11 @@ ResumePlan plan_resume_within(const Job& job, size_t line, double x, double y) {
 namespace {
 
 // The device came back fresh (its pen matches nothing the journal allows): the last
-// proof, when the journal has one that is consistent and later than the window's start;
+// proof, when the journal has one that is consistent and not before the window's start;
 // else the window's start, as before proofs were journalled. O(window).
 ResumePlan resume_fresh(const Job& job, const JournalState& journal, size_t lo) {
   const ProofStart ps = proof_start(job, journal);
-  const bool use = ps.why.empty() && (ps.line > lo || (ps.line == lo && ps.split));
+  const bool use = ps.why.empty() && ps.line >= lo;
   ResumePlan rp = use && ps.split ? plan_resume_within(job, ps.line, ps.at.x, ps.at.y) : plan_resume(job, use ? ps.line : lo);
   rp.redraw = pen_down_length(job, rp.next, use && ps.split, ps.at, journal.last_acked);
   if (use) {

@@ -62,12 +62,13 @@ struct ResumeWindow {
 size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window);
 
 // What `plot --resume` does once the device is connected and idle: resume_point, then
-// plan_resume from there. A device whose pen matches nothing there, or that lost its
-// planner and stands at machine zero, came back fresh (a power loss: position gone or
-// re-zeroed): it resumes from the journal's last proven
-// point (a status report's position, the line split there) when that is consistent and
-// later than the window's first line, else from that first line. The plan says how much
-// pen-down path it may draw again and why. O(window + job size).
+// plan_resume from there. A device whose pen matches nothing there, that lost its planner
+// and stands at machine zero, or (unproven_bytes) cannot say, came back fresh (a power
+// loss: position gone or re-zeroed): it resumes from the journal's last proof (a status
+// report's position, the line split there; for HPGL only an instruction's start or end)
+// when that is consistent and not before the first line the device may not have run,
+// else from that line. The plan says how much pen-down path it may draw again and why.
+// O(window + job size).
 ResumePlan resume_from_journal(const Job& job, const JournalState& journal, const DevicePen& device = {},
                                const ResumeWindow& window = {});
 

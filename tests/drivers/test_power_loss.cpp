@@ -329,6 +329,17 @@ TEST_CASE("resume after a fresh board: the proof splits the line, an inconsisten
   CHECK(resume_from_journal(job, js, fresh, grbl_window).next == 9);
   js.proven = {10, 0, 0, 0};
   CHECK(resume_from_journal(job, js, fresh, grbl_window).next < 9);  // beyond the job: ignored
+  // HPGL: an instruction may be a polyline, so a proof inside it (even on its chord) is no
+  // proof; at its start it is. Lines: 0 IN, 1 SP1, 2 PU400,400, 3 PD800,400,800,800, 4 PU, 5 SP0
+  const Job hp = parse_hpgl_job("IN;SP1;PU400,400;PD800,400,800,800;PU;SP0;");
+  REQUIRE(hp.lines.size() == 6);
+  JournalState hj;
+  hj.last_acked = 4;
+  const ResumeWindow paced{1024, 0, 0, 1024};
+  hj.proven = {3, 600, 600, 0};  // on the chord (400,400)-(800,800), not on the path
+  CHECK(resume_from_journal(hp, hj, DevicePen{}, paced).next == 0);
+  hj.proven = {3, 400, 400, 0};
+  CHECK(resume_from_journal(hp, hj, DevicePen{}, paced).next == 3);
 }
 
 TEST_CASE("journal: pos records round-trip, the last wins, a torn one is ignored, a bad one refused",

@@ -560,7 +560,7 @@ class Streamer::JobRun {
   size_t motion_acked_ = 0;         // moves acknowledged in all (acked_motion_ keeps the last)
   long last_sync_acked_ = -1;       // the last sync line answered: everything up to it ran
   long last_preamble_move_ = -1;    // the preamble's last travel, until a sync line proves it run
-  ProvenPoint proof_;               // the last point a status report proved drawn up to
+  ProvenPoint proof_;               // the last proof journalled (a status report, a sync line)
   Snapshot snapshot_{0, session_.result().last_acked, -1};
   clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_, last_progress_ = last_rx_;
   int idle_polls_ = 0;
