@@ -172,7 +172,19 @@ void SimDevice::serve() {
       continue;
     }
     double now = device_time();
-    for (long i = 0; i < n; ++i) {
+    if (n > 0 && first_in_ < 0) first_in_ = now;
+    const bool timed_out = faults_.power_loss_after_s >= 0 && first_in_ >= 0 && now - first_in_ >= faults_.power_loss_after_s;
+    for (long i = 0; i <= n; ++i) {
+      if (timed_out || (faults_.power_loss_after_bytes >= 0 && static_cast<long>(stats_.bytes_in) >= faults_.power_loss_after_bytes)) {
+        faults_.power_loss_after_bytes = -1;  // once
+        faults_.power_loss_after_s = -1;
+        advance(now);
+        on_power_loss(now);
+        disconnect(now);
+        linked = false;
+        break;
+      }
+      if (i == n) break;
       if (faults_.disconnect_after_bytes >= 0 &&
           static_cast<long>(stats_.bytes_in) >= faults_.disconnect_after_bytes) {
         disconnect(now);

@@ -39,6 +39,11 @@ struct Faults {
   long alarm_line = -1;      // line K raises an alarm (grbl ALARM:1, HPGL not-ready)
   double not_ready_ms = 0;   // HPGL: the operator makes it ready again after this long (0: never)
   long reset_line = -1;      // the controller resets when line K arrives (grbl: its reset input; HPGL: IN)
+  // The board loses power after N received bytes: it stops where it is, its buffers and
+  // position are gone, the link goes down; it boots afresh (grbl: the banner) when a
+  // client opens the port again (the operator re-zeroed the machine at the origin).
+  long power_loss_after_bytes = -1;
+  double power_loss_after_s = -1;  // ... or this many device seconds after the first byte came
 };
 
 // How a simulator runs, whatever it simulates: its clock, its wire, its faults.
@@ -90,6 +95,7 @@ class SimDevice {
   virtual void advance(double t) = 0;      // run the machine up to t
   virtual double next_event() const = 0;   // device time of the next internal event
   virtual void on_disconnect(double t) = 0;
+  virtual void on_power_loss(double) {}  // before the link goes down with it
   virtual bool idle() const = 0;
   void send(const std::string& s, double t);
   // Starvation bookkeeping: the machine starts / stops doing something.
@@ -121,6 +127,7 @@ class SimDevice {
   std::deque<Timed> wire_in_;
   std::deque<std::pair<double, std::string>> wire_out_;
   double last_in_ = 0, last_out_ = 0;
+  double first_in_ = -1;  // device time of the first byte received
   double idle_since_ = -1;
   bool ever_busy_ = false;
   bool client_present_ = false;

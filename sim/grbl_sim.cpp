@@ -128,6 +128,14 @@ void GrblSim::on_connect(double t) {
 
 void GrblSim::on_client_open(double t) {
   if (cfg_.reset_on_open) boot(t);
+  else if (booting_until_ == kInf) booting_until_ = t + cfg_.boot_s;  // powered on again
+}
+
+// Motion stops where it is and everything is lost, as at a reset; the board stays off
+// (nothing answered, bytes ignored) until a client opens the port again.
+void GrblSim::on_power_loss(double t) {
+  boot(t);
+  booting_until_ = kInf;
 }
 
 void GrblSim::on_disconnect(double) {

@@ -56,6 +56,7 @@ class GrblSim final : public SimDevice {
   void advance(double t) override;
   double next_event() const override;
   void on_disconnect(double t) override;
+  void on_power_loss(double t) override;
   bool idle() const override;
 
  private:

@@ -45,6 +45,28 @@ void HpglSim::on_disconnect(double) {
   // went down); only bytes in flight are lost.
 }
 
+// The instruction under way stops undrawn (its moves are recorded as it ends), the
+// buffer and the state are gone; powered on again at the origin, pen up, as after IN.
+void HpglSim::on_power_loss(double t) {
+  buf_.clear();
+  exec_bytes_ = 0;
+  executing_ = false;
+  pending_moves_.clear();
+  pen_down_ = pending_pen_ = false;
+  absolute_ = true;
+  error_ = 0;
+  not_ready_ = xoff_sent_ = false;
+  ready_at_ = -1;
+  x_ = y_ = 0;
+  vs_mm_s_ = cfg_.motion.speed_down_mm_s;
+  {
+    std::lock_guard lk(m_);
+    rec_.pen(false);
+    rec_.move(0, 0);
+  }
+  mark_idle(t);
+}
+
 bool HpglSim::idle() const { return !executing_ && buf_.find_first_not_of("; \r\n\t,") == std::string::npos; }
 
 void HpglSim::query_reply(const std::string& r, double t) {

@@ -38,6 +38,7 @@ class HpglSim final : public SimDevice {
   void advance(double t) override;
   double next_event() const override;
   void on_disconnect(double t) override;
+  void on_power_loss(double t) override;
   bool idle() const override;
 
  private:

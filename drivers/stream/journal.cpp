@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -116,6 +117,12 @@ void Journal::ack(size_t line) {
   last_written_ = last_;
 }
 
+void Journal::proven(const ProvenPoint& p) {
+  char b[128];
+  std::snprintf(b, sizeof b, "pos %ld %.4f %.4f %.4f", p.line, p.x, p.y, p.z);
+  append_record(b, false);
+}
+
 void Journal::device_cleared() { append_record("stopped", true); }
 
 void Journal::rollback_to(long line) {
@@ -152,6 +159,18 @@ bool read_record(const std::string& path, const std::string& line, size_t number
   }
   throw UserError("journal " + path + " is damaged: line " + std::to_string(number) +
                   " fails its checksum; refusing to resume from it (plot the job anew, or remove the journal)");
+}
+
+// "pos N X Y Z": N a line of the job, three finite numbers.
+ProvenPoint parse_pos(const std::string& path, const std::string& body, size_t number, size_t total_lines) {
+  ProvenPoint p;
+  char tail = 0;
+  const int n = std::sscanf(body.c_str(), "pos %ld %lf %lf %lf %c", &p.line, &p.x, &p.y, &p.z, &tail);
+  if (n != 4 || p.line < 0 || p.line >= static_cast<long>(total_lines) || !std::isfinite(p.x) || !std::isfinite(p.y) ||
+      !std::isfinite(p.z))
+    throw UserError("journal " + path + " is damaged: line " + std::to_string(number) + " `" + body +
+                    "` is not a position on a line of the job (it has " + std::to_string(total_lines) + " lines)");
+  return p;
 }
 
 }  // namespace
@@ -194,6 +213,8 @@ JournalState Journal::load(const std::string& path) {
                         "` is not a line of the job (it has " + std::to_string(st.header.total_lines) + " lines)");
       st.last_acked = v;
       st.stopped = false;
+    } else if (body.rfind("pos ", 0) == 0) {
+      st.proven = parse_pos(path, body, number, st.header.total_lines);
     } else if (body == "stopped") {
       st.stopped = true;
     } else if (body == "done") {

@@ -14,9 +14,20 @@ struct JournalHeader {
   size_t total_lines = 0;
 };
 
+// What the device proved it had done: it stood at (x, y, z) on the path of job line
+// `line` (from where line - 1 leaves the pen to where `line` does), so everything the job
+// draws before that point was drawn. From a status report's position on the acknowledged
+// lines, or a sync line's answer (then the start of the line after it). Job units.
+struct ProvenPoint {
+  long line = -1;  // -1: nothing proved
+  double x = 0, y = 0, z = 0;
+  bool operator==(const ProvenPoint&) const = default;
+};
+
 struct JournalState {
   JournalHeader header;
   long last_acked = -1;  // index of the last line the device acknowledged
+  ProvenPoint proven;    // the last point the device proved drawn up to
   bool complete = false;
   bool torn = false;     // the last record was cut short (a crash mid-write): ignored
   // The session ended with the device's buffers dropped (a reset, ESC.K): it runs no
@@ -24,8 +35,10 @@ struct JournalState {
   bool stopped = false;
 };
 
-// Append-only file JOB.journal: a JSON header line, then "ack N", "stopped" and "done"
-// records, each line ending in " *" and the CRC-32 of what precedes it (8 hex digits).
+// Append-only file JOB.journal: a JSON header line, then "ack N", "pos N X Y Z" (a
+// ProvenPoint), "stopped" and "done" records, each line ending in " *" and the CRC-32 of
+// what precedes it (8 hex digits). Journals without "pos" records (older ones) read as
+// before: nothing proved.
 // Every record is written as it happens (a killed host loses none); they are fsync'd at
 // most every `sync_interval_ms` while streaming (a power loss may repeat that much),
 // and always on sync() / close (device faults lose nothing).
@@ -41,6 +54,9 @@ class Journal {
   Journal(const Journal&) = delete;
   Journal& operator=(const Journal&) = delete;
   void ack(size_t line);
+  // The device proved it drew up to this point: written at once, made
+  // durable with the acks (the sync interval), never fsync'd on its own.
+  void proven(const ProvenPoint& p);
   // Moves the acknowledged point back (after an abort: acked lines the device
   // discarded from its buffer).
   void rollback_to(long line);

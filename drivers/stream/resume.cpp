@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/segments.hpp"
 #include "util/error.hpp"
 
 namespace stipplot::io {
@@ -31,6 +32,13 @@ bool is_dwell_line(const std::string& text) {
 
 bool pen_down_before(const std::vector<JobLine>& L, size_t k) { return k == 0 ? false : L[k - 1].pen_down; }
 
+struct Point {
+  double x = 0, y = 0;
+};
+
+// Where line k starts: where line k - 1 leaves the pen (machine zero before the first).
+Point start_of(const std::vector<JobLine>& L, size_t k) { return k ? Point{L[k - 1].x, L[k - 1].y} : Point{}; }
+
 // A resume point right after the pen went down, before it moved: for a dot, the dot is
 // finished by the lift (skip to after its pen-up); for a stroke, start the stroke again
 // from its pen-down line.
@@ -52,7 +60,8 @@ size_t settle_resume_point(const Job& job, size_t next) {
 
 // G-code: the job's own pen commands (with the dwell that follows them), the modal
 // state at the resume point, and the travel there.
-std::vector<std::string> gcode_preamble(const std::vector<JobLine>& L, size_t next) {
+// `to` is where to travel (where line next - 1 ends, or a point on line next's path).
+std::vector<std::string> gcode_preamble(const std::vector<JobLine>& L, size_t next, Point to) {
   GcodeModes modes;
   double feed = 0;  // in program units, as the job wrote it
   long pen_up = -1, pen_down = -1;
@@ -79,7 +88,7 @@ std::vector<std::string> gcode_preamble(const std::vector<JobLine>& L, size_t ne
   if (pen_up < 0) throw UserError("cannot resume: the job never lifts the pen, so there is no pen-up command to use");
   with_dwell(pen_up);
   char buf[128];
-  std::snprintf(buf, sizeof buf, "G0 X%.4f Y%.4f", next ? L[next - 1].x : 0.0, next ? L[next - 1].y : 0.0);
+  std::snprintf(buf, sizeof buf, "G0 X%.4f Y%.4f", to.x, to.y);
   pre.push_back(buf);
   if (pen_down_before(L, next)) with_dwell(pen_down);
   if (modes.scale != 1) pre.push_back("G20");
@@ -95,7 +104,7 @@ std::vector<std::string> gcode_preamble(const std::vector<JobLine>& L, size_t ne
 }
 
 // HPGL: lift, the pen and velocity in use, travel, and the pen down again if it was.
-std::vector<std::string> hpgl_preamble(const std::vector<JobLine>& L, size_t next) {
+std::vector<std::string> hpgl_preamble(const std::vector<JobLine>& L, size_t next, Point to) {
   std::string sp, vs;
   for (size_t k = 0; k < next; ++k) {
     if (L[k].text.rfind("SP", 0) == 0) sp = L[k].text;
@@ -105,7 +114,7 @@ std::vector<std::string> hpgl_preamble(const std::vector<JobLine>& L, size_t nex
   if (!sp.empty()) pre.push_back(sp);
   if (!vs.empty()) pre.push_back(vs);
   char buf[128];
-  std::snprintf(buf, sizeof buf, "PA;PU%.10g,%.10g;", next ? L[next - 1].x : 0.0, next ? L[next - 1].y : 0.0);
+  std::snprintf(buf, sizeof buf, "PA;PU%.10g,%.10g;", to.x, to.y);
   pre.push_back(buf);
   if (pen_down_before(L, next)) pre.push_back("PD;");
   return pre;
@@ -121,15 +130,17 @@ ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device) {
   if (in_place && job.dialect == Dialect::GCode) {
     // Pen already as it was: only the modal state needs restoring (as a full resume
     // from the settled point would restore it).
-    ResumePlan rp{next, {}, {}};
-    for (const auto& l : gcode_preamble(L, settle_resume_point(job, next)))
+    ResumePlan rp{next, {}, {}, 0, {}};
+    const size_t settled = settle_resume_point(job, next);
+    for (const auto& l : gcode_preamble(L, settled, start_of(L, settled)))
       if (l == "G21" || l == "G90" || l == "G20" || l == "G0" || l == "G1" || l.rfind("G1 F", 0) == 0 ||
           l.rfind("G0 F", 0) == 0)
         rp.preamble.push_back(l);
     return rp;
   }
   next = settle_resume_point(job, next);
-  return {next, job.dialect == Dialect::GCode ? gcode_preamble(L, next) : hpgl_preamble(L, next), {}};
+  const Point to = start_of(L, next);
+  return {next, job.dialect == Dialect::GCode ? gcode_preamble(L, next, to) : hpgl_preamble(L, next, to), {}, 0, {}};
 }
 
 namespace {
@@ -152,30 +163,158 @@ bool device_within(const std::vector<JobLine>& L, size_t k, const DevicePen& d, 
   return u < 1 && u * std::sqrt(len2) > tol && std::hypot(x0 + u * dx - d.x, y0 + u * dy - d.y) < tol;
 }
 
-}  // namespace
-
-size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window) {
+// The first line of the window from which the device's pen continues, or -1 if its pen
+// matches nothing there (a board that came back fresh: its position is gone). `lo` is
+// the window's first line. O(window).
+long device_match(const Job& job, size_t next, const DevicePen& device, const ResumeWindow& window, size_t& lo) {
   const auto& L = job.lines;
-  const size_t next = std::min(static_cast<size_t>(journal.last_acked + 1), L.size());
-  if (journal.stopped || !device.known || (window.ahead_bytes == 0 && window.back_moves == 0)) return next;
   const double tol = job.dialect == Dialect::GCode ? 0.02 : 0.6;  // mm (a couple of steps); plotter units
-  size_t lo = next;
+  lo = next;
   for (size_t moves = 0; lo > 0 && moves < window.back_moves; --lo) moves += L[lo - 1].motion;
   size_t bytes = 0;
   for (size_t k = lo; k <= L.size(); ++k) {
-    if (device_before(L, k, device, tol)) return k;
+    if (device_before(L, k, device, tol)) return static_cast<long>(k);
     if (k == L.size()) break;
-    if (device_within(L, k, device, tol)) return k;
+    if (device_within(L, k, device, tol)) return static_cast<long>(k);
     if (k >= next && (bytes += L[k].host_only ? 0 : L[k].text.size() + window.line_end_bytes) > window.ahead_bytes) break;
   }
+  return -1;
+}
+
+// The first line within window.unproven_bytes of the journal's end (`after` without
+// any). O(window).
+size_t unproven_start(const std::vector<JobLine>& L, size_t after, const ResumeWindow& window) {
+  size_t lo = after;
+  for (size_t bytes = 0; lo > 0 && bytes < window.unproven_bytes; --lo)
+    bytes += L[lo - 1].host_only ? 0 : L[lo - 1].text.size() + window.line_end_bytes;
   return lo;
 }
 
+// Where to go on from the journal's last proof: its line, and the point on that line's
+// path (projected onto it) if it lies inside a pen-down move, else the line's start.
+// Empty `why` when the proof is usable; else why not. O(1).
+struct ProofStart {
+  size_t line = 0;
+  bool split = false;
+  Point at;
+  std::string why;
+};
+ProofStart proof_start(const Job& job, const JournalState& journal) {
+  const auto& L = job.lines;
+  const ProvenPoint& p = journal.proven;
+  ProofStart ps;
+  if (p.line < 0) return {0, false, {}, "the journal holds no proof"};
+  // The line under way is at most the first one not acknowledged (a sync line's answer
+  // proves the next one's start).
+  if (p.line > journal.last_acked + 1 || static_cast<size_t>(p.line) >= L.size())
+    return {0, false, {}, "the last proof (line " + std::to_string(p.line + 1) + ") is past the acknowledged lines"};
+  ps.line = static_cast<size_t>(p.line);
+  const Point a = start_of(L, ps.line);
+  const double dx = L[ps.line].x - a.x, dy = L[ps.line].y - a.y, len = std::hypot(dx, dy);
+  const double u = len > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / (len * len), 0.0, 1.0) : 0.0;
+  const bool gcode = job.dialect == Dialect::GCode;
+  const double tol = gcode ? 0.02 : 0.6;  // mm (a couple of steps); plotter units
+  const bool at_start = std::hypot(p.x - a.x, p.y - a.y) <= tol;
+  // An HPGL instruction may be a polyline: only its start or end can be a proof.
+  if (std::hypot(a.x + u * dx - p.x, a.y + u * dy - p.y) > tol ||
+      (!gcode && !at_start && std::hypot(L[ps.line].x - p.x, L[ps.line].y - p.y) > tol))
+    return {0, false, {}, "the last proof does not lie on line " + std::to_string(p.line + 1) + "'s path"};
+  if (len > 0 && !at_start && std::hypot(L[ps.line].x - p.x, L[ps.line].y - p.y) <= (gcode ? 0.003 : tol)) {
+    ++ps.line;  // at its end: the line is done
+  } else if (gcode && len > 0 && u * len > tol && L[ps.line].motion && pen_down_before(L, ps.line)) {
+    ps.split = true;
+    ps.at = {a.x + u * dx, a.y + u * dy};
+  }
+  return ps;
+}
+
+// The pen-down length job lines [0, n) draw. O(job size).
+double drawn_length(const Job& job, size_t n) {
+  Job head;
+  head.dialect = job.dialect;
+  head.lines.assign(job.lines.begin(), job.lines.begin() + static_cast<long>(std::min(n, job.lines.size())));
+  double len = 0;
+  for (const Segment& s : job_segments(head)) len += std::hypot(s.x1 - s.x0, s.y1 - s.y0);
+  return len;
+}
+
+// Pen-down path from `at` on line `from` (its start unless split) to the end of line
+// `upto`: the most a resume from there draws again. O(job size).
+double pen_down_length(const Job& job, size_t from, bool split, Point at, long upto) {
+  if (upto < static_cast<long>(from)) return 0;
+  double len = drawn_length(job, static_cast<size_t>(upto) + 1) - drawn_length(job, from);
+  if (split) len -= std::hypot(at.x - start_of(job.lines, from).x, at.y - start_of(job.lines, from).y);
+  return std::max(0.0, len);
+}
+
+}  // namespace
+
+size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window) {
+  const size_t next = std::min(static_cast<size_t>(journal.last_acked + 1), job.lines.size());
+  if (journal.stopped || !device.known || (window.ahead_bytes == 0 && window.back_moves == 0)) return next;
+  size_t lo = next;
+  const long k = device_match(job, next, device, window, lo);
+  return k >= 0 ? static_cast<size_t>(k) : lo;
+}
+
+ResumePlan plan_resume_within(const Job& job, size_t line, double x, double y) {
+  const auto& L = job.lines;
+  if (line >= L.size() || !L[line].motion || !pen_down_before(L, line)) return plan_resume(job, line);
+  const Point to{x, y};
+  return {line, job.dialect == Dialect::GCode ? gcode_preamble(L, line, to) : hpgl_preamble(L, line, to), {}, 0, {}};
+}
+
+namespace {
+
+// The device came back fresh (its pen matches nothing the journal allows): the last
+// proof, when the journal has one that is consistent and not before the window's start;
+// else the window's start, as before proofs were journalled. O(window).
+ResumePlan resume_fresh(const Job& job, const JournalState& journal, size_t lo) {
+  const ProofStart ps = proof_start(job, journal);
+  const bool use = ps.why.empty() && ps.line >= lo;
+  ResumePlan rp = use && ps.split ? plan_resume_within(job, ps.line, ps.at.x, ps.at.y) : plan_resume(job, use ? ps.line : lo);
+  rp.redraw = pen_down_length(job, rp.next, use && ps.split, ps.at, journal.last_acked);
+  if (use) {
+    char b[160];
+    std::snprintf(b, sizeof b, "from the last point proved drawn before the loss (at line %zu%s)", ps.line + 1,
+                  ps.split ? ", split where a status report saw the pen" : "");
+    rp.why = b;
+  } else {
+    rp.why = "from the first line the device may not have run (" +
+             (ps.why.empty() ? "the last proof is earlier" : ps.why) + ")";
+  }
+  return rp;
+}
+
+}  // namespace
+
 ResumePlan resume_from_journal(const Job& job, const JournalState& journal, const DevicePen& device,
                                const ResumeWindow& window) {
-  const size_t from = resume_point(job, journal, device, window);
+  const auto& L = job.lines;
+  const size_t after = std::min(static_cast<size_t>(journal.last_acked + 1), L.size());
+  size_t lo = after;
+  const bool look = !journal.stopped && device.known && (window.ahead_bytes > 0 || window.back_moves > 0);
+  // A paced HPGL plotter that does not say where its pen is may have lost its buffer.
+  const bool unknown = !journal.stopped && !device.known && window.unproven_bytes > 0;
+  // A board that lost its planner and stands at machine zero, pen up, was powered on
+  // (or re-zeroed) there: that the job also passes there proves nothing (the job's
+  // closing travel home would read as "it ran to the end").
+  const bool zeroed = look && window.back_moves > 0 && !device.down && std::hypot(device.x, device.y) < 0.02;
+  long match = look ? device_match(job, after, device, window, lo) : static_cast<long>(after);
+  if (zeroed || unknown) match = -1;
+  if (match < 0) {
+    ResumePlan rp = resume_fresh(job, journal, std::min(lo, unproven_start(L, after, window)));
+    rp.note = std::string(unknown ? "the device cannot say where its pen is" : "the device's pen matches nothing the journal allows") +
+              " (it may have come back fresh, its buffers lost): resuming at line " + std::to_string(rp.next + 1) + ", " + rp.why;
+    return rp;
+  }
+  const size_t from = static_cast<size_t>(match);
   ResumePlan rp = plan_resume(job, from, device);
-  const size_t after = static_cast<size_t>(journal.last_acked + 1);
+  // A stop that dropped the buffers rolled the line under way back: it may be redrawn.
+  rp.redraw = pen_down_length(job, rp.next, false, {}, journal.stopped ? journal.last_acked + 1 : journal.last_acked);
+  rp.why = journal.stopped ? "the device stopped with its buffers dropped: from the line it had under way"
+           : look          ? "from where the device's pen stands"
+                           : "from the line after the last the device acknowledged";
   if (from != after)
     rp.note = "the journal ends at line " + std::to_string(after) + " but the device's pen is where line " +
               std::to_string(from) + " left it" + (from > after ? " (it ran on after the host)" : "") +

@@ -12,6 +12,10 @@ struct ResumePlan {
   size_t next = 0;                    // first job line to send after the preamble
   std::vector<std::string> preamble;  // lines to send first
   std::string note;                   // why it is not the line after the journal's last, if it is not
+  // The most pen-down path it may draw again (job units: mm, HPGL plotter units), and why
+  // it starts there (resume_from_journal only).
+  double redraw = 0;
+  std::string why;
 };
 
 // What the device reports about its pen, when it can (grbl: spindle speed and Z from a
@@ -30,6 +34,11 @@ struct DevicePen {
 // O(job size).
 ResumePlan plan_resume(const Job& job, size_t next, const DevicePen& device = {});
 
+// Continues inside job line `line` from (x, y), a point on its path: travels there pen up,
+// puts the pen down, and sends the line itself (absolute, so it draws from there to its
+// end). A line that draws nothing resumes from its start (plan_resume). O(job size).
+ResumePlan plan_resume_within(const Job& job, size_t line, double x, double y);
+
 // How far the device may be from the journal when the host did not stop it (killed,
 // link lost): lines it may have run that the journal never heard of (its receive buffer
 // holds at most `ahead_bytes`), and acknowledged moves it may never have run (its
@@ -38,6 +47,10 @@ struct ResumeWindow {
   size_t ahead_bytes = 0;
   size_t back_moves = 0;
   size_t line_end_bytes = 1;  // what ends a line on the wire ('\n'; none between HPGL instructions)
+  // Acknowledged lines within this many bytes of the journal's end may never have run on
+  // a device that came back fresh: an HPGL plotter paced by XON/XOFF or RTS/CTS, whose
+  // acknowledgement is the write, loses its buffer with the power.
+  size_t unproven_bytes = 0;
 };
 
 // The first line to resume from. After a stop that dropped the device's buffers (the
@@ -49,7 +62,13 @@ struct ResumeWindow {
 size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window);
 
 // What `plot --resume` does once the device is connected and idle: resume_point, then
-// plan_resume from there.
+// plan_resume from there. A device whose pen matches nothing there, that lost its planner
+// and stands at machine zero, or (unproven_bytes) cannot say, came back fresh (a power
+// loss: position gone or re-zeroed): it resumes from the journal's last proof (a status
+// report's position, the line split there; for HPGL only an instruction's start or end)
+// when that is consistent and not before the first line the device may not have run,
+// else from that line. The plan says how much pen-down path it may draw again and why.
+// O(window + job size).
 ResumePlan resume_from_journal(const Job& job, const JournalState& journal, const DevicePen& device = {},
                                const ResumeWindow& window = {});
 

@@ -30,6 +30,10 @@ void StreamSession::acknowledge(long line) {
   if (journal_) journal_->ack(static_cast<size_t>(line));
 }
 
+void StreamSession::proven(const ProvenPoint& p) {
+  if (journal_) journal_->proven(p);
+}
+
 void StreamSession::report(size_t items_sent, const std::string& state, double x, double y, long executed) {
   if (!progress_fn_) return;
   StreamProgress& pg = progress_;

@@ -26,6 +26,8 @@ class StreamSession {
 
   // The device has done job line `line`.
   void acknowledge(long line);
+  // The device proved it drew up to this point (journalled).
+  void proven(const ProvenPoint& p);
   // Calls the progress callback: `items_sent` items are out, the device last said this,
   // and has executed the job's lines up to `executed` (by default: all acknowledged ones,
   // as for a plotter whose acknowledgement is its buffer emptying).

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -389,10 +390,14 @@ io::PauseAnswer answer_pause(const PlotArgs& A, const io::PauseRequest& p) {
   return answer.empty() || (answer[0] != 'a' && answer[0] != 'A') ? io::PauseAnswer::go : io::PauseAnswer::stop;
 }
 
-// Where to go on, from the journal and the device as it is now (as the fault tests resume).
-io::ResumePlan resume_plan(const PlotArgs& A, const PlotJob& pj, const io::DevicePen& device, const io::ResumeWindow& w) {
+// Where to go on, from the journal and the device as it is now (as the fault tests resume);
+// the summary says from which line, how much pen-down path it may draw again, and why.
+io::ResumePlan resume_plan(const PlotArgs& A, const PlotJob& pj, const io::DevicePen& device, const io::ResumeWindow& w,
+                           nlohmann::json& summary) {
   io::ResumePlan rp = io::resume_from_journal(pj.job, pj.resume_state, device, w);
   if (!rp.note.empty()) A.log(rp.note);
+  const double mm = rp.redraw / (pj.grbl() ? 1.0 : pj.device.machine.units_per_mm);
+  summary["resume"] = {{"from_line", rp.next + 1}, {"redraw_mm", std::round(mm * 100) / 100}, {"why", rp.why}};
   return rp;
 }
 
@@ -461,20 +466,20 @@ io::StreamResult run_grbl(const PlotArgs& A, PlotJob& pj, io::Transport& port, i
     }
     A.log("check mode: all " + std::to_string(job.lines.size()) + " lines accepted");
   }
-  io::ResumePlan rp{pj.start(), {}, {}};
-  if (pj.resuming) rp = resume_plan(A, pj, st.device_pen(pj.pen_rule), st.resume_window());
+  io::ResumePlan rp{pj.start(), {}, {}, 0, {}};
+  if (pj.resuming) rp = resume_plan(A, pj, st.device_pen(pj.pen_rule), st.resume_window(), summary);
   return st.stream(job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
 
 io::StreamResult run_hpgl(const PlotArgs& A, const PlotJob& pj, io::Transport& port, io::Journal& journal,
-                          PlotProgress& progress) {
+                          PlotProgress& progress, nlohmann::json& summary) {
   io::hpgl::Options o = io::hpgl::options_for(pj.device);
   o.log = [&A](const std::string& s) { A.log(s); };
   o.on_pause = [&A](const io::PauseRequest& p) { return answer_pause(A, p); };
   io::hpgl::Streamer st(port, o);
   st.connect();
-  io::ResumePlan rp{pj.start(), {}, {}};
-  if (pj.resuming) rp = resume_plan(A, pj, st.device_pen(), st.resume_window());
+  io::ResumePlan rp{pj.start(), {}, {}, 0, {}};
+  if (pj.resuming) rp = resume_plan(A, pj, st.device_pen(), st.resume_window(), summary);
   return st.stream(pj.job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
 
@@ -511,12 +516,20 @@ void print_result(const PlotArgs& A, const PlotJob& pj, const io::StreamResult& 
   if (A.json) {
     std::printf("%s\n", s.dump().c_str());
   } else if (!A.quiet) {
-    std::printf("%s %s: %zu lines acknowledged in %.1f s%s\n", res.completed ? "plotted" : "stopped",
+    std::string resumed;  // "; resumed at line 812, redraws at most 3.2 mm: from the last point ..."
+    if (s.contains("resume")) {
+      char b[96];
+      std::snprintf(b, sizeof b, "; resumed at line %zu, redraws at most %.1f mm: ", s["resume"]["from_line"].get<size_t>(),
+                    s["resume"]["redraw_mm"].get<double>());
+      resumed = b + s["resume"]["why"].get<std::string>();
+    }
+    std::printf("%s %s: %zu lines acknowledged in %.1f s%s%s\n", res.completed ? "plotted" : "stopped",
                 pj.prepared.path.c_str(), res.lines_acked, res.seconds,
                 simulated ? (", simulator drew " + std::to_string(s["sim_segments"].get<size_t>()) + " segments -> " +
                              s["sim_png"].get<std::string>())
                                 .c_str()
-                          : "");
+                          : "",
+                resumed.c_str());
   }
 }
 
@@ -539,7 +552,7 @@ void plot(PlotArgs& A) {
   s["lines"] = pj.job.lines.size();
   io::StreamResult res;
   try {
-    res = pj.grbl() ? run_grbl(A, pj, *link.port, *journal, progress, s) : run_hpgl(A, pj, *link.port, *journal, progress);
+    res = pj.grbl() ? run_grbl(A, pj, *link.port, *journal, progress, s) : run_hpgl(A, pj, *link.port, *journal, progress, s);
   } catch (const UserError& e) {
     progress.finish(false);
     std::string hint = journal->last_acked() >= 0

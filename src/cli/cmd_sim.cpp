@@ -136,6 +136,11 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--stall-line", a->faults.stall_line, "Stall at line K ...")->group(g);
   cmd->add_option("--stall-ms", a->faults.stall_ms, "... for this many ms (device time)")->group(g);
   cmd->add_option("--disconnect-after", a->faults.disconnect_after_bytes, "Hang up after N received bytes (then a new pty)")->group(g);
+  cmd->add_option("--power-loss-after", a->faults.power_loss_after_bytes,
+                  "Lose power after N received bytes: stop, forget buffers and position, hang up; boot afresh when the "
+                  "port is opened again (a new pty)")->group(g);
+  cmd->add_option("--power-loss-after-s", a->faults.power_loss_after_s,
+                  "... or this many device seconds after the first byte")->group(g);
   cmd->add_option("--error-line", a->faults.error_line, "Reject line K (grbl error:20, HPGL error 1)")->group(g);
   cmd->add_option("--alarm-line", a->faults.alarm_line, "Alarm at line K (grbl ALARM:1, HPGL not ready)")->group(g);
   cmd->add_option("--reset-line", a->faults.reset_line, "The controller resets when line K arrives (grbl: its reset input)")->group(g);

@@ -109,6 +109,39 @@ TEST_CASE("stipplot sim on a pty: plot --port, a disconnect, plot --resume", "[c
   fs::remove_all(dir);
 }
 
+// A power loss: the port goes with the board, which comes back fresh (banner, position
+// zeroed) on a new pty; the resume's result says where it went on from, how much pen-down
+// path it may draw again and why, on the human line and in --json.
+TEST_CASE("stipplot sim on a pty: a power loss, plot --resume says what it redraws and why", "[cli][drivers][resume][power]") {
+  auto dir = scratch();
+  std::string job = write_job(dir, "p.gcode", testjob::gcode(testjob::random_strokes(44, 25, 5)));
+  std::string cmd = "sh -c 'echo $$; exec " + std::string(STIPPLOT_BIN) + " sim grbl --speedup 10 --power-loss-after 1500' 2>/dev/null";
+  FILE* sim = ::popen(cmd.c_str(), "r");
+  REQUIRE(sim);
+  char line[256];
+  REQUIRE(std::fgets(line, sizeof line, sim));
+  pid_t pid = std::atoi(line);
+  REQUIRE(std::fgets(line, sizeof line, sim));
+  std::string pty1 = std::string(line).substr(0, std::strlen(line) - 1);
+  Out first = run("plot " + job + " --port " + pty1 + " -q");
+  CHECK(first.rc != 0);
+  CHECK(first.text.find("--resume " + job) != std::string::npos);
+  REQUIRE(std::fgets(line, sizeof line, sim));  // powered on again, on a new pty
+  std::string pty2 = std::string(line).substr(0, std::strlen(line) - 1);
+  Out second = run("plot --resume " + job + " --port " + pty2 + " --json -q");
+  ::kill(pid, SIGTERM);
+  ::pclose(sim);
+  REQUIRE(second.rc == 0);
+  const auto j = nlohmann::json::parse(second.text.substr(second.text.rfind("{\"command\"")));
+  CHECK(j["completed"] == true);
+  REQUIRE(j.contains("resume"));
+  INFO(j["resume"].dump());
+  CHECK(j["resume"]["redraw_mm"].get<double>() >= 0);
+  CHECK(j["resume"]["why"].get<std::string>().find("last point proved drawn before the loss") != std::string::npos);
+  std::printf("CLI resume after a power loss: %s\n", j["resume"].dump().c_str());
+  fs::remove_all(dir);
+}
+
 TEST_CASE("plot names the pen at start, pause and resume, and without a terminal needs --pen-change", "[cli][drivers][pause]") {
   auto dir = scratch() / "pens";
   fs::create_directories(dir);

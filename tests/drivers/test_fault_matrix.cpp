@@ -94,7 +94,7 @@ Cell plot_until_done(const Job& job, sim::SimDevice& sim, const std::string& jpa
     } catch (const UserError&) {
       continue;
     }
-    ResumePlan rp{0, {}, {}};
+    ResumePlan rp{0, {}, {}, 0, {}};
     if (session > 0) rp = resume_from_journal(job, Journal::load(jpath), st.device_pen(), st.resume_window());
     c.completed = run_session<Streamer, Options>(st, job, jpath, session, rp);
     c.sessions = session + 1;

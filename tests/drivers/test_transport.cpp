@@ -258,7 +258,7 @@ TEST_CASE("resume point: a lifted pen at a stroke's start has not begun it", "[d
   REQUIRE(job.lines.size() == 12);
   JournalState journal;
   journal.last_acked = 4;  // the journal ends at the first pen-down; the board ran on to line 8
-  const ResumeWindow window{128, 0, 1};
+  const ResumeWindow window{128, 0, 1, 0};
   CHECK(resume_point(job, journal, DevicePen{true, false, 10, 10}, window) == 9);
   // Pen down there: the first stroke's pen-down (line 4) left it so, and that comes first.
   CHECK(resume_point(job, journal, DevicePen{true, true, 10, 10}, window) == 5);

@@ -38,6 +38,16 @@ bool only_dwell(const std::string& text) {
   return dwell;
 }
 
+// A line that moves an axis (X, Y or Z word, not a dwell).
+bool moves_axes(const std::string& text) {
+  bool axis = false;
+  for (const GcodeWord& w : gcode_words(text)) {
+    if (w.letter == 'G' && is_dwell(w)) return false;
+    axis |= w.letter == 'X' || w.letter == 'Y' || w.letter == 'Z';
+  }
+  return axis;
+}
+
 // "20", "0.6": the watchdog's time as a person reads it.
 std::string seconds_text(Millis m) {
   char b[32];
@@ -56,6 +66,8 @@ class Streamer::JobRun {
       : s_(s), o_(s.o_), session_(job, start, preamble, journal, progress), controls_(controls),
         window_(o_.mode, static_cast<size_t>(o_.rx_buffer)) {
     refuse_long_lines();
+    for (size_t i = 0; i < preamble.size(); ++i)
+      if (moves_axes(preamble[i])) last_preamble_move_ = static_cast<long>(i);
   }
 
   StreamResult run() {
@@ -203,6 +215,9 @@ class Streamer::JobRun {
   // protocol_buffer_synchronize returns on sys.abort; gc_execute_line reports STATUS_OK).
   void acknowledge(const LineWindow::Line& l, bool proves_moves = true) {
     const long line = session_.job_line(l.item);
+    // A sync line answered after the preamble's travel: the machine is on the job's path.
+    if (proves_moves && static_cast<long>(l.item) > last_preamble_move_ && is_sync_line(session_.text(l.item)))
+      last_preamble_move_ = -1;
     if (line < 0) return;
     session_.acknowledge(line);
     if (proves_moves && is_sync_line(session_.job().lines[static_cast<size_t>(line)].text)) {
@@ -211,6 +226,7 @@ class Streamer::JobRun {
       last_sync_acked_ = line;
       before_sync_ = std::move(acked_motion_);
       acked_motion_.clear();
+      prove_sync(static_cast<size_t>(line));
       return;
     }
     if (session_.job().lines[static_cast<size_t>(line)].motion) {
@@ -326,6 +342,7 @@ class Streamer::JobRun {
         st.bytes_free != was.bytes_free)
       progressed();
     take_snapshot(st);
+    prove_position(st);
     report();
     if (st.state.rfind("Alarm", 0) == 0) {
       rollback_to_executed(true);
@@ -441,6 +458,47 @@ class Streamer::JobRun {
     return -2;
   }
 
+  // A status report's position on the path of the acknowledged lines proves everything
+  // before it was drawn; the journal keeps it, so a resume after a power loss (position
+  // gone) starts there rather than before every move grbl had queued. The search starts
+  // where the machine surely is by now (the last proof, the last sync line answered, or
+  // the session's first line once its preamble's travel is proved run) and takes the
+  // first line whose path holds the position: at a crossing the earlier, so a proof never
+  // claims more than was drawn. O(lines acknowledged since that start).
+  void prove_position(const Status& st) {
+    if (last_preamble_move_ >= 0 || st.state == "Check" || st.state.rfind("Alarm", 0) == 0) return;
+    constexpr double tol = 0.02;  // mm: a couple of steps, as executed_at_position
+    const auto& L = session_.job().lines;
+    const long last = session_.result().last_acked;
+    for (long k = std::max({proof_.line, last_sync_acked_, static_cast<long>(session_.start())}); k <= last; ++k) {
+      const size_t i = static_cast<size_t>(k);
+      if (k < 0 || !L[i].motion) continue;
+      const double x0 = i ? L[i - 1].x : 0, y0 = i ? L[i - 1].y : 0, dx = L[i].x - x0, dy = L[i].y - y0;
+      const double len2 = dx * dx + dy * dy;
+      const double u = len2 > 0 ? std::clamp(((st.x - x0) * dx + (st.y - y0) * dy) / len2, 0.0, 1.0) : 0.0;
+      if (std::hypot(x0 + u * dx - st.x, y0 + u * dy - st.y) > tol) continue;
+      const ProvenPoint p{k, st.x, st.y, st.z};
+      if (p == proof_) return;
+      proof_ = p;
+      session_.proven(p);
+      return;
+    }
+  }
+
+  // A sync line's answer proves it ran, and everything before it: the next line starts
+  // where it leaves the pen. Not for a line that lowers the pen (its answer comes before
+  // the pen rests on the paper: a dot is made by the dwell after it) nor one that also
+  // moves (grbl syncs before the line's own motion). O(1).
+  void prove_sync(size_t line) {
+    const auto& L = session_.job().lines;
+    const bool lowers = L[line].pen_down && !(line > 0 && L[line - 1].pen_down);
+    if (lowers || L[line].motion || line + 1 >= L.size()) return;
+    const ProvenPoint p{static_cast<long>(line) + 1, L[line].x, L[line].y, s_.last_status_.z};
+    if (p.line <= proof_.line) return;
+    proof_ = p;
+    session_.proven(p);
+  }
+
   // After grbl lost its buffers: the journal and the result go back to what was
   // executed, from where the machine stopped when grbl can say, else from the planner
   // fill of the last status report.
@@ -508,6 +566,8 @@ class Streamer::JobRun {
   std::deque<long> before_sync_;    // the moves the last sync line's answer called executed
   size_t motion_acked_ = 0;         // moves acknowledged in all (acked_motion_ keeps the last)
   long last_sync_acked_ = -1;       // the last sync line answered: everything up to it ran
+  long last_preamble_move_ = -1;    // the preamble's last travel, until a sync line proves it run
+  ProvenPoint proof_;               // the last proof journalled (a status report, a sync line)
   Snapshot snapshot_{0, session_.result().last_acked, -1};
   clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_, last_progress_ = last_rx_;
   int idle_polls_ = 0;

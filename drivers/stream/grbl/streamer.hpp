@@ -77,7 +77,7 @@ class Streamer {
   // buffer ahead (a dead host's last lines ran, reset or not: a reset at connect loses
   // only what was still buffered), and, if its buffers were lost, its planner behind.
   ResumeWindow resume_window() const {
-    return {static_cast<size_t>(o_.rx_buffer), restarted_ ? static_cast<size_t>(o_.planner_blocks) : 0, 1};
+    return {static_cast<size_t>(o_.rx_buffer), restarted_ ? static_cast<size_t>(o_.planner_blocks) : 0, 1, 0};
   }
   // Streams job lines [start, end) after `preamble`. Throws DeviceError / TransportError;
   // the journal is synced first, so `plot --resume` can continue.

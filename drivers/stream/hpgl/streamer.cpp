@@ -339,11 +339,30 @@ class Streamer::JobRun {
     }
   }
 
+  // Paced, a line counts as done once written; what the plotter has taken from its
+  // buffer (ESC.B is answered after every byte before it arrived, and the plotter frees an
+  // instruction's bytes as it finishes it) proves the lines before drawn. Journalled as
+  // the start of the first line not wholly taken, so that a resume after a power loss
+  // (the buffer gone) starts there. At most every proof_interval. O(log items).
+  void prove_taken() {
+    if (!o_.status_queries || s_.buffer_ <= 0 || clock::now() < next_proof_) return;
+    next_proof_ = clock::now() + o_.proof_interval;
+    const size_t in_buffer = static_cast<size_t>(std::max(0, s_.buffer_ - s_.query('B')));
+    const size_t taken = sent_ > in_buffer ? sent_ - in_buffer : 0;
+    const size_t item = static_cast<size_t>(std::upper_bound(ends_.begin(), ends_.end(), taken) - ends_.begin());
+    const long line = item < ends_.size() ? session_.job_line(item) : -1;
+    if (line <= proof_.line) return;  // in the preamble yet, all taken, or nothing new
+    const auto& L = session_.job().lines;
+    proof_ = {line, line ? L[static_cast<size_t>(line) - 1].x : 0, line ? L[static_cast<size_t>(line) - 1].y : 0, 0};
+    session_.proven(proof_);
+  }
+
   // XON/XOFF or hardware handshake: write in small pieces, watching for XOFF between
   // them; then wait until the plotter has drawn it all. False if aborted.
   bool stream_paced() {
     while (sent_ < data_.size() || at_pause()) {
       if (abort_requested()) return false;
+      prove_taken();
       if (at_pause()) {
         if (o_.status_queries) wait_drawn();
         pause_here();
@@ -493,6 +512,8 @@ class Streamer::JobRun {
   size_t clean_upto_ = 0;  // items done before the last status without an error flag
   int last_free_ = -1;
   clock::time_point last_change_ = clock::now();
+  clock::time_point next_proof_ = clock::now();
+  ProvenPoint proof_;  // paced: the last proof journalled
 };
 
 StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,

@@ -37,6 +37,9 @@ struct Options {
   // connecting, a buffer left with undrawn data that long (a dead host's unfinished
   // instruction) is cleared with ESC.K.
   Millis watchdog{20000};
+  // Paced handshakes: how often ESC.B asks what the plotter has taken, the journal's
+  // proof of what was drawn (grbl polls its status at 5 Hz).
+  Millis proof_interval{200};
   // A pause of the job (the writer's reload comment, not sent): asked once the plotter
   // has drawn everything before it. Unset: continue at once.
   PauseFn on_pause;
@@ -59,8 +62,13 @@ class Streamer {
   // Where the pen is and whether it is down (OA, answered once the buffer has run; the
   // device's own units). Unknown without status queries or an answer.
   DevicePen device_pen();
-  // How far a plotter left by a dead host may have drawn past the journal: its buffer.
-  ResumeWindow resume_window() const { return {static_cast<size_t>(std::max(buffer_, 0)), 0, o_.newline ? 1u : 0u}; }
+  // How far a plotter left by a dead host may have drawn past the journal: its buffer;
+  // and, paced (the journal has what was written), how far behind it a plotter that lost
+  // its buffer may be.
+  ResumeWindow resume_window() const {
+    const size_t buffer = static_cast<size_t>(std::max(buffer_, 0));
+    return {buffer, 0, o_.newline ? 1u : 0u, o_.handshake == HpglHandshake::buffer_query ? 0 : buffer};
+  }
 
  private:
   class JobRun;  // one stream() call
