@@ -84,10 +84,12 @@ class StepWalker {
     take_spindle_events();  // pen changes come between blocks
     const double duty = duty_;
     while (i_ < std::min(limit_, log_.steps.size()) && !(pos_ == end)) {
-      // In mid-block the pen may go up and down again (a feed hold that lifts it), but a
-      // pen that moves on changed is a reset's work: grbl stops the spindle.
+      // The pen output may change in mid-block: a feed hold lifts and lowers it, and a
+      // sync line that a hold let through early (grbl's wait ends in Hold as the planner
+      // empties) switches it while the last segments still run. Counted, not a stop.
       take_spindle_events();
-      if (duty_ != duty || !next_step_on(pos_, log_.steps[i_].pos, start, end)) break;
+      if (!next_step_on(pos_, log_.steps[i_].pos, start, end)) break;
+      b.steps_pen_changed += duty_ != duty;
       pos_ = log_.steps[i_++].pos;
     }
     b.steps_to = i_;
@@ -282,10 +284,14 @@ std::string describe(const SessionRecord& s, const MachineSettings& m) {
   const char* run[] = {"not run", "partial", "complete"};
   for (size_t k = 0; k < s.blocks.size(); ++k) {
     const ExecutedBlock& x = s.blocks[k];
-    std::snprintf(b, sizeof b, "%4zu e%d to %8.2f %8.2f %6.2f%s duty %5.3f %-8s start %9.5f end %9.5f%s\n", k, x.epoch,
+    std::snprintf(b, sizeof b, "%4zu e%d to %8.2f %8.2f %6.2f%s duty %5.3f %-8s start %9.5f end %9.5f%s", k, x.epoch,
                   x.planned.end.x / m.steps_per_mm[0], x.planned.end.y / m.steps_per_mm[1],
                   x.planned.end.z / m.steps_per_mm[2], x.planned.rapid ? " G0" : " G1", x.duty,
                   run[static_cast<int>(x.run)], x.t_start, x.t_end, x.rest_after ? " rest" : "");
+    out += b;
+    if (x.steps_pen_changed) out += " (" + std::to_string(x.steps_pen_changed) + " steps with the pen changed)";
+    out += "\n";
+    continue;
     out += b;
   }
   for (const std::string& p : s.problems) out += "  problem: " + p + "\n";
@@ -438,6 +444,7 @@ void interpret_session(const FirmwareRecord& r, const SessionRecord& s, const Pe
       }
       const ExecutedBlock& b = s.blocks[cursor];
       check_block(b, cursor, e, g.pen_down(), rule, r.settings, where(s, ev.line, l), out);
+      out.steps_pen_changed += b.steps_pen_changed;
       block_line[cursor] = static_cast<long>(ev.line);
       if (b.run != ExecutedBlock::Run::NotRun) {
         pen.move(b.start, b.stop, b.run == ExecutedBlock::Run::Complete);

@@ -15,8 +15,8 @@
 //   blocks grbl planned, in order; walking the step log along them tells which ran, how
 //   far and when. The log has no block boundaries of its own: a step belongs to the block
 //   being walked while it moves towards that block's end within the stepper's Bresenham
-//   rounding; a step that does not, or a pen change in mid-block, ends the walk (a reset
-//   or a power cut stopped the block there).
+//   rounding; a step that does not, or the step where a reset falls (placed by grbl's
+//   status reports), ends the walk: a reset or a power cut stopped the block there.
 #include <limits>
 #include <string>
 #include <vector>
@@ -90,6 +90,7 @@ struct ExecutedBlock {
   bool rest_after = false;  // the machine stood still between this block and the next
   double duty = -1;         // the pen output while it ran (-1: it never moved)
   size_t steps_from = 0, steps_to = 0;  // its step events [from, to) in the step log
+  size_t steps_pen_changed = 0;  // steps taken with the pen output changed since the block began
 };
 
 // The machine stood still between `block` and the next block of the same epoch.
@@ -154,6 +155,10 @@ struct Interpretation {
   };
   std::vector<Starved> starved;
   double pen_down_mm = 0;  // pen-down path the firmware drew, from the step log
+  // Steps the machine took after the pen output changed within their block: a feed hold
+  // at a travel's end lets grbl run the next pen-down command while the last segments
+  // still run (a touch of the pen a few steps long where the stroke begins anyway).
+  size_t steps_pen_changed = 0;
 };
 // `offsets[i]`: where session i's machine zero lies (power cuts: 0 = re-zeroed at the origin).
 // O(lines + blocks).

@@ -96,7 +96,7 @@ TEST_CASE("firmware logs: the step log walked along the answered lines gives eac
   CHECK(in.rests_starved == 0);
 }
 
-TEST_CASE("firmware logs: a reset in mid-stroke ends the block where the pen went up, and steps no block explains are named",
+TEST_CASE("firmware logs: a reset in mid-stroke ends the block where the status reports place it, and steps no block explains are named",
           "[firmware-logs]") {
   const char* log =
       "M 0.5000000 duty=1.0000 pwm=1 ocr2a=255 pb3=1 pb5=0 hz=976.6 pulse_us=1024.0\n"
