@@ -103,7 +103,7 @@ void register_hatch(CLI::App& app) {
       "direction's spacing is set so its ink lays the band's mean darkness; --time widens them all alike.\n"
       "Lines are clipped to their bands; neighbouring lines are joined into zig-zags where the link is short\n"
       "(--link) and stays inside. --contours also traces the bands' boundaries. --pens spreads a palette's\n"
-      "pens light to dark over the directions.\n"
+      "pens light to dark over the directions (its greys and blacks only, when it has any).\n"
       "Example: stipplot hatch photo.jpg -o photo.svg --preview photo.png\n"
       "         stipplot hatch photo.jpg -o photo.gcode --levels 4 --contours --time 30min\n"
       "         stipplot hatch photo.jpg -o photo.svg --pens examples/pens/fineliner12.toml --spacing 0.6mm");
@@ -122,7 +122,7 @@ void register_hatch(CLI::App& app) {
                   "Longest zig-zag link between neighbouring lines (a link straight across is always allowed): mm, cm, in, pt or px")
       ->capture_default_str()->group(g);
   cmd->add_flag("--contours", args->p.contours, "Also draw the bands' boundaries as lines")->group(g);
-  cmd->add_option("--pens", args->pens_file, "TOML palette (see examples/pens/): its pens light to dark over the directions")
+  cmd->add_option("--pens", args->pens_file, "TOML palette (see examples/pens/): its pens (greys and blacks, if any) light to dark over the directions")
       ->group(g);
   m->define(
       [args] { resolve(*args); },

@@ -9,6 +9,7 @@
 
 #include "methods/hatch/hatch.hpp"
 #include "methods/hatch/hatch_lines.hpp"
+#include "methods/palette.hpp"
 #include "test_util.hpp"
 #include "util/error.hpp"
 
@@ -97,6 +98,24 @@ TEST_CASE("hatch: the directions' ink lays each band's mean darkness where the p
     CHECK(band_darkness(dirs, b, 2) < band_darkness(dirs, b, 1));  // the knob fades every band
   }
   CHECK(band_darkness(dirs, 0, 1) == 0);
+}
+
+TEST_CASE("hatch: a palette's greys and blacks share the directions light to dark, and still lay the tone", "[hatch]") {
+  const Image img = grey_image(300, 200, [](int x, int) { return 255.0 * x / 299; });
+  HatchParams p;
+  p.pens = load_palette(test::example("pens/fineliner12.toml")).pens;
+  const ToneMap t = tone_map(img, p, page(150, 100, 0));
+  const auto dirs = directions(t, p, 0.3);
+  REQUIRE(dirs.size() == 4);
+  CHECK(dirs[0].pen.name == "grey");
+  CHECK(dirs[1].pen.name == "grey");
+  CHECK(dirs[2].pen.name == "black");
+  CHECK(dirs[3].pen.name == "black");
+  // A grey pen lays less darkness a line: its lines lie closer than a black pen's would.
+  HatchParams black = p;
+  black.pens.clear();
+  CHECK(dirs[0].spacing_mm < directions(t, black, 0.4)[0].spacing_mm);
+  for (size_t b = 1; b + 1 < t.darkness.size(); ++b) CHECK(band_darkness(dirs, b, 1) == Approx(t.darkness[b]).margin(0.01));
 }
 
 TEST_CASE("hatch: pure white gives no lines, with or without contours", "[hatch]") {

@@ -56,12 +56,21 @@ ToneMap tone_map(const Image& image, const HatchParams& p, const Placement& plac
 namespace {
 double pen_darkness(const Pen& pen) { return 1.0 - luma601(pen.color.r, pen.color.g, pen.color.b) / 255.0; }
 
-// The pens light to dark, too light ones (which cannot lay tone) left out.
+bool neutral(const Pen& pen) {
+  const Color c = pen.color;
+  return std::max({c.r, c.g, c.b}) - std::min({c.r, c.g, c.b}) <= 48;
+}
+
+// The pens light to dark, too light ones (which cannot lay tone) left out; a palette's
+// greys and blacks only, when it has any (a tone drawn in yellow and violet is no tone).
 std::vector<Pen> tone_pens(const HatchParams& p, double pen_width_mm) {
   if (p.pens.empty()) return {Pen{"black", colors::black, pen_width_mm}};
+  const bool any_neutral = std::any_of(p.pens.begin(), p.pens.end(), [](const Pen& pen) {
+    return neutral(pen) && pen_darkness(pen) >= 0.05;
+  });
   std::vector<Pen> pens;
   for (const Pen& pen : p.pens)
-    if (pen_darkness(pen) >= 0.05) pens.push_back(pen);
+    if (pen_darkness(pen) >= 0.05 && (neutral(pen) || !any_neutral)) pens.push_back(pen);
   if (pens.empty()) throw UserError("--pens: every pen is too light to lay tone on white paper");
   std::stable_sort(pens.begin(), pens.end(), [](const Pen& a, const Pen& b) { return pen_darkness(a) < pen_darkness(b); });
   return pens;
