@@ -44,13 +44,19 @@ std::vector<Run> runs_on_line(const Mask& m, const Frame& f, double t, double a_
   return runs;
 }
 
-// True when the straight link from p to q stays inside (sampled every half cell).
+// Inside, or a cell's side from a cell that is: a region's edge on the grid is a
+// staircase, which a straight link along it clips at its corners.
+bool near_inside(const Mask& m, double x, double y) {
+  return m.inside(x, y) || m.inside(x - 1, y) || m.inside(x + 1, y) || m.inside(x, y - 1) || m.inside(x, y + 1);
+}
+
+// True when the straight link from p to q stays inside, up to a cell (sampled every half cell).
 bool link_inside(const Mask& m, Vec2 p, Vec2 q) {
   const double len = std::hypot(q.x - p.x, q.y - p.y);
   const int steps = std::max(1, static_cast<int>(std::ceil(len / kStep)));
   for (int i = 1; i < steps; ++i) {
     const double s = static_cast<double>(i) / steps;
-    if (!m.inside(p.x + s * (q.x - p.x), p.y + s * (q.y - p.y))) return false;
+    if (!near_inside(m, p.x + s * (q.x - p.x), p.y + s * (q.y - p.y))) return false;
   }
   return true;
 }

@@ -1,7 +1,8 @@
 #pragma once
 // Parallel hatch lines clipped to a region of a grid, consecutive lines linked into
-// zig-zag strokes where the link is short and stays inside the region, so the pen
-// draws a region's lines in few pen-downs. Pure geometry in cell coordinates.
+// zig-zag strokes where the link is short and stays inside the region (up to a cell: a
+// region's edge on a grid is a staircase whose corners a straight link along it clips),
+// so the pen draws a region's lines in few pen-downs. Pure geometry in cell coordinates.
 #include <cstdint>
 #include <vector>
 
