@@ -12,7 +12,8 @@ bool Mask::inside(double cx, double cy) const {
 }
 
 namespace {
-constexpr double kStep = 0.5;  // sampling step along a line, cells
+constexpr double kStep = 0.5;    // sampling step along a line, cells
+constexpr double kMinRun = 1.5;  // shorter runs are specks a pen would only dot (cells)
 
 struct Run {
   double a0, a1;  // along the line, a0 < a1
@@ -24,8 +25,8 @@ struct Frame {
   Vec2 at(double a, double t) const { return {a * u.x + t * n.x, a * u.y + t * n.y}; }
 };
 
-// The inside stretches of the line at offset t, sampled from a_lo to a_hi; runs of a
-// single sample (shorter than a step) are left out.
+// The inside stretches of the line at offset t, sampled from a_lo to a_hi; runs shorter
+// than kMinRun are left out.
 std::vector<Run> runs_on_line(const Mask& m, const Frame& f, double t, double a_lo, double a_hi) {
   std::vector<Run> runs;
   bool open = false;
@@ -37,10 +38,10 @@ std::vector<Run> runs_on_line(const Mask& m, const Frame& f, double t, double a_
       last = a;
     } else if (open) {
       open = false;
-      if (last > start) runs.push_back({start, last});
+      if (last - start >= kMinRun) runs.push_back({start, last});
     }
   }
-  if (open && last > start) runs.push_back({start, last});
+  if (open && last - start >= kMinRun) runs.push_back({start, last});
   return runs;
 }
 
