@@ -31,7 +31,7 @@ nlohmann::json method_schemas() {
   CLI::App app;
   register_all(app);
   nlohmann::json methods = nlohmann::json::object();
-  for (const char* name : {"stipple", "tree", "sketch", "pointillism"}) {
+  for (const char* name : {"stipple", "tree", "sketch", "pointillism", "hatch"}) {
     const CLI::App* sub = app.get_subcommand(name);
     std::set<std::string> skip = {"--json", "--quiet", "--max-pixels", "--help"};
     for (const CLI::Option* o : sub->get_options()) {

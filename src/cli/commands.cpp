@@ -53,6 +53,7 @@ void register_all(CLI::App& app) {
   register_tree(app);
   register_sketch(app);
   register_pointillism(app);
+  register_hatch(app);
   register_profiles(app);
   register_export(app);
   register_devices(app);

@@ -8,6 +8,7 @@ void register_eval(CLI::App& app);
 void register_tree(CLI::App& app);
 void register_sketch(CLI::App& app);
 void register_pointillism(CLI::App& app);
+void register_hatch(CLI::App& app);
 void register_profiles(CLI::App& app);
 void register_export(CLI::App& app);
 void register_devices(CLI::App& app);

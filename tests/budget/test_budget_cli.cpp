@@ -97,7 +97,7 @@ TEST_CASE("every method's marks stay inside the image's rectangle with no margin
   // 60 x 60 mm, no margin: the image fills the width, its rectangle touches the page's edge.
   const double h = 60.0 * in.height / in.width, top = (60 - h) / 2, eps = 1e-6;
   auto outside = [&](stipplot::Vec2 p) { return p.x < -eps || p.x > 60 + eps || p.y < top - eps || p.y > top + h + eps; };
-  for (const char* method : {"sketch", "pointillism", "stipple", "tree"}) {
+  for (const char* method : {"sketch", "pointillism", "stipple", "tree", "hatch"}) {
     const std::string opts = " --page 60x60mm --margin 0 --time 10min";
     // G-code: the writer refuses any point off the page.
     run_json(std::string(method) + " " + img + " -o " + t.file("c.gcode") + opts);
