@@ -211,6 +211,13 @@ ViewScore view_score_of_plan(const Image& photo, const PageTransform& tf, const 
   return view_score(photo, tf, render_plan(plan, po), opt);
 }
 
+ViewScore view_score_of_drawing(const Image& photo, const PageTransform& tf, const Drawing& drawing,
+                                const ViewOptions& opt, double px_per_mm) {
+  PreviewOptions po;
+  po.dpi = px_per_mm * 25.4;
+  return view_score(photo, tf, render_preview(drawing, po), opt);
+}
+
 double view_px_per_mm(double page_w_mm, double page_h_mm) {
   return std::min(10.0, std::sqrt(25e6 / std::max(page_w_mm * page_h_mm, 1e-9)));
 }

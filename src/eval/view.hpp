@@ -37,12 +37,19 @@ struct ViewScore {
 // O(page pixels x sigma in pixels).
 ViewScore view_score(const Image& photo, const PageTransform& tf, const Image& drawn_page, const ViewOptions& opt);
 
-// The same of a plan, rendered pen-true at `px_per_mm`. At sigma = 1 mm a render of
-// 4 px/mm suffices (within 0.01 of 10 px/mm): an A4 page is then about 1 MP, and the
-// measure costs O(strokes' points + 1 MP x (4 sigma px + 3)), some tens of milliseconds:
-// cheap enough for the budget search to call on every run.
+// The same of a plan, rendered pen-true at `px_per_mm`. At sigma >= 0.5 mm a render of
+// 4 px/mm suffices (within 0.01 of 8 px/mm, test "sigma in mm ..."): an A4 page is then
+// about 1 MP and the comparison O(1 MP x (8 sigma px + 3)), tens of milliseconds; the
+// render costs O(the plan's points), seconds for 80k spiral-filled dots (bench_view).
 ViewScore view_score_of_plan(const Image& photo, const PageTransform& tf, const Plan& plan, const ViewOptions& opt,
                              double px_per_mm = 4);
+
+// The budget search's call: a drawing before it is planned, its primitives rendered as
+// they are (dots as discs, filled circles in their fill colour; render_preview), which the
+// blur cannot tell from the plan's fills (test "... of the drawing ..."). O(primitives +
+// page pixels x sigma px): a tenth of a second for 80k dots on A4 at 4 px/mm.
+ViewScore view_score_of_drawing(const Image& photo, const PageTransform& tf, const Drawing& drawing,
+                                const ViewOptions& opt, double px_per_mm = 4);
 
 // The render resolution the CLI measures at: measure.py's 10 px/mm, fewer on pages whose
 // render would pass 25 MP.

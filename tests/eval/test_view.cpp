@@ -28,7 +28,7 @@ Image flat(int w, int h, uint8_t v) { return Image::from_grey(w, h, std::vector<
 
 // Black dots on a square grid of `pitch` mm over the photo's rectangle, each of the
 // diameter that lays the darkness of the photo under it (coverage pi d^2 / 4 / pitch^2).
-Plan halftone(const Image& photo, const PageTransform& tf, double pitch) {
+Drawing halftone_drawing(const Image& photo, const PageTransform& tf, double pitch) {
   Drawing d;
   d.page = {tf.page_w(), tf.page_h()};
   Layer l;
@@ -41,7 +41,11 @@ Plan halftone(const Image& photo, const PageTransform& tf, double pitch) {
       if (dia >= 0.05) l.dots.push_back({{x, y}, dia});
     }
   d.layers.push_back(l);
-  return plan_drawing(d, PlanOptions{});
+  return d;
+}
+
+Plan halftone(const Image& photo, const PageTransform& tf, double pitch) {
+  return plan_drawing(halftone_drawing(photo, tf, pitch), PlanOptions{});
 }
 
 }  // namespace
@@ -98,6 +102,22 @@ TEST_CASE("sigma in mm is independent of the render's resolution", "[eval][view]
     CHECK(at4.ssim == Approx(at8.ssim).margin(0.01));
     CHECK(at4.tone_r == Approx(at8.tone_r).margin(0.01));
     CHECK(at4.tone_err == Approx(at8.tone_err).margin(0.01));
+  }
+}
+
+TEST_CASE("the measure of the drawing, unplanned, agrees with its plan's within 0.02", "[eval][view]") {
+  const Image photo = load_image(test::example("coffee.png"));
+  const PageTransform tf(photo.width, photo.height, PageSpec{297, 210}, 10, false);
+  const Drawing drawing = halftone_drawing(photo, tf, 0.8);
+  const Plan plan = plan_drawing(drawing, PlanOptions{});
+  for (double s : {0.5, 1.0}) {
+    ViewOptions o;
+    o.sigma_mm = s;
+    const ViewScore p = view_score_of_plan(photo, tf, plan, o), d = view_score_of_drawing(photo, tf, drawing, o);
+    INFO("sigma " << s << ": SSIM " << p.ssim << " / " << d.ssim << ", r " << p.tone_r << " / " << d.tone_r);
+    CHECK(p.ssim == Approx(d.ssim).margin(0.02));
+    CHECK(p.tone_r == Approx(d.tone_r).margin(0.02));
+    CHECK(p.tone_err == Approx(d.tone_err).margin(0.02));
   }
 }
 
