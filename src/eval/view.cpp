@@ -19,6 +19,8 @@ namespace {
 // sample-covariance factor stays 49/48 at every resolution.
 constexpr double kWindowMm = 0.7;
 constexpr double kCovNorm = 49.0 / 48.0;
+// The blurs --view-sigma accepts: below a micrometre is no blur, beyond 10 cm no drawing.
+constexpr double kLeastSigmaMm = 1e-3, kMostSigmaMm = 100;
 
 // Pixel boxes on the page grid.
 struct Box {
@@ -164,12 +166,12 @@ const Image& finest_needed(const Image& drawn, const PageTransform& tf, double s
 }  // namespace
 
 ViewScore view_score(const Image& photo, const PageTransform& tf, const Image& drawn, const ViewOptions& opt) {
-  require_range("view sigma (mm)", opt.sigma_mm, 1e-3, 100);
+  require_range("view sigma (mm)", opt.sigma_mm, kLeastSigmaMm, kMostSigmaMm);
   if (photo.pixels() == 0 || drawn.pixels() == 0) throw UserError("view measure: empty image");
   Image store;
   const Image& page = finest_needed(drawn, tf, opt.sigma_mm, store);
   const double ppmm = page.width / tf.page_w();
-  // Pixels are square within 2 % (checked above); a degenerate page keeps its own height.
+  // Pixels are square within 2 % (finest_needed checks); a degenerate page keeps its own height.
   const double ppmm_y = page.height / tf.page_h();
   const cv::Rect2d rect(tf.origin_x() * ppmm, tf.origin_y() * ppmm_y, photo.width * tf.mm_per_px() * ppmm,
                         photo.height * tf.mm_per_px() * ppmm_y);
@@ -233,8 +235,8 @@ double parse_view_sigma_mm(std::string_view text, const char* option) {
                     "' could be millimetres or pixels");
   const double mm = v * mm_per_unit(unit);
   if (mm_per_unit(unit) == 0) throw UserError(o + ": unknown unit '" + unit + "' (mm, cm, in, pt, px)");
-  if (!std::isfinite(mm) || mm <= 0 || mm > 100)
-    throw UserError(o + " must be more than 0 and at most 100 mm, not '" + std::string(text) + "'");
+  if (!std::isfinite(mm) || mm < kLeastSigmaMm || mm > kMostSigmaMm)
+    throw UserError(o + " must be more than 0 (at least 0.001 mm) and at most 100 mm, not '" + std::string(text) + "'");
   return mm;
 }
 

@@ -121,11 +121,11 @@ TEST_CASE("the measure of the drawing, unplanned, agrees with its plan's within 
   }
 }
 
-TEST_CASE("--view-sigma takes a positive length with its unit", "[eval][view]") {
+TEST_CASE("a view sigma is a positive length with its unit", "[eval][view]") {
   CHECK(parse_view_sigma_mm("1mm") == Approx(1));
   CHECK(parse_view_sigma_mm("0.05cm") == Approx(0.5));
   CHECK(parse_view_sigma_mm("2pt") == Approx(2 * 25.4 / 72));
-  for (const char* bad : {"-1mm", "0mm", "nan", "NaNmm", "1", "mm", "1furlong", "1e9mm", ""}) {
+  for (const char* bad : {"-1mm", "0mm", "0.0001mm", "nan", "NaNmm", "1", "mm", "1furlong", "1e9mm", ""}) {
     INFO(bad);
     CHECK_THROWS_AS(parse_view_sigma_mm(bad), UserError);
   }
