@@ -11,6 +11,7 @@
 #include "cli/layout_options.hpp"
 #include "drivers/motion/plan_stats.hpp"
 #include "eval/fidelity.hpp"
+#include "eval/view.hpp"
 #include "layout/clip.hpp"
 #include "plan/planner.hpp"
 #include "preview/preview.hpp"
@@ -34,6 +35,9 @@ struct MethodCommand::Args {
   uint64_t max_pixels = 100'000'000;
   PlacementArgs place;
   ReportArgs report;
+  std::string view_sigma = "1mm";      // the viewing-distance blur every measure reports at
+  CLI::Option* view_sigma_option = nullptr;
+  bool measure = false;                // the --measure of a method without one of its own
 };
 
 MethodRun::MethodRun(const Image& in, const PageTransform& tf, const MethodResult& r, const Plan& p,
@@ -77,6 +81,8 @@ Image MethodRun::render_over_image(bool opaque) const {
   const double dpi = std::clamp(25.4 / transform.mm_per_px(), 150.0, 1200.0);
   return crop_to_image(render_result(result, plan, dpi, opaque), transform, input.width, input.height);
 }
+
+Image MethodRun::render_page(double px_per_mm) const { return render_result(result, plan, 25.4 * px_per_mm, false); }
 
 MethodDraft fixed_density(std::function<MethodResult()> draw) {
   MethodDraft d;
@@ -209,6 +215,11 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
       ->capture_default_str()->group("Input");
   add_placement_options(cmd, a.place);
   a.page_option = cmd->get_option("--page");
+  a.view_sigma_option =
+      cmd->add_option("--view-sigma", a.view_sigma,
+                      "The measure's viewing-distance blur on paper, with its unit (1mm, 0.5mm): SSIM and tone r of "
+                      "the blurred drawing against the blurred photo")
+          ->capture_default_str()->group("Output");
   m->cmd_ = cmd;
   // The app owns the callback, the callback keeps the command alive.
   cmd->callback([m] { m->run(); });
@@ -224,6 +235,12 @@ void MethodCommand::add_png_output(const std::string& option, const std::string&
 void MethodCommand::define(std::function<void()> check, std::function<MethodDraft(const MethodInput&)> prepare) {
   check_ = std::move(check);
   prepare_ = std::move(prepare);
+  measure_option_ = cmd_->get_option_no_throw("--measure");
+  if (!measure_option_) measure_option_ = cmd_->get_option_no_throw("--fidelity");
+  if (!measure_option_)
+    measure_option_ = cmd_->add_flag("--measure", args_->measure,
+                                     "Report SSIM and tone r of the drawing seen from a viewing distance (--view-sigma)")
+                          ->group("Output");
 }
 
 void MethodCommand::check_outputs() const {
@@ -235,6 +252,10 @@ void MethodCommand::check_outputs() const {
   (void)budget::parse_duration(a.time);
   if (!a.preview.empty()) require_png_path("--preview", a.preview);
   require_range("--preview-dpi", a.preview_dpi, 10, 2400);
+  (void)parse_view_sigma_mm(a.view_sigma);
+  if (a.view_sigma_option->count() > 0 && measure_option_->count() == 0)
+    throw UserError("--view-sigma is the blur of " + measure_option_->get_name() + ": give " +
+                    measure_option_->get_name() + " too");
   if (a.max_pixels == 0) throw UserError("--max-pixels must be at least 1");
   std::vector<NamedPath> outputs{{"-o", a.output}, {"--preview", a.preview}};
   for (const auto& p : pngs_) {
@@ -305,6 +326,28 @@ Placement placement_for_device(Placement p, const LayoutArgs& sheet_args, const 
   if (!page_given) p.page = {std::min(sheet.width_mm, sheet.height_mm), std::max(sheet.width_mm, sheet.height_mm)};
   p.margin_mm = std::max(p.margin_mm, unreachable_border_mm(device, sheet));
   return p;
+}
+
+// The viewing-distance figures of every method's measure (eval/view.hpp), from the render
+// the other measures see, at measure.py's 10 px/mm. dE00 for drawings in colour.
+void report_view(MethodRun& run, double sigma_mm) {
+  ViewOptions vo;
+  vo.sigma_mm = sigma_mm;
+  vo.colour = run.result.screen_colours;
+  for (const Layer& l : run.result.drawing.layers)
+    vo.colour = vo.colour || l.pen.color.r != l.pen.color.g || l.pen.color.g != l.pen.color.b;
+  const double ppmm = view_px_per_mm(run.transform.page_w(), run.transform.page_h());
+  const ViewScore v = view_score(run.input, run.transform, run.render_page(ppmm), vo);
+  run.summary["view_sigma_mm"] = sigma_mm;
+  run.summary["ssim_view"] = v.ssim;
+  run.summary["tone_r_view"] = v.tone_r;
+  run.summary["tone_err_view"] = v.tone_err;
+  if (vo.colour) run.summary["delta_e_view"] = v.delta_e;
+  std::ostringstream at;
+  at << "viewed at " << sigma_mm << " mm: SSIM";
+  run.note(at.str(), v.ssim);
+  run.note("tone r", v.tone_r);
+  if (vo.colour) run.note("dE00", v.delta_e);
 }
 
 // The method drawn at the density whose plan fits the budget (or at --knob): the density
@@ -408,6 +451,7 @@ void MethodCommand::run() const {
                               : Drawing{};
   write_outputs(r, lay_out ? &out : nullptr, mr, s);
   if (r.measure) r.measure(mr);
+  if (measure_option_->count() > 0) report_view(mr, parse_view_sigma_mm(a.view_sigma));
   s["seconds_method"] = method_s;
   s["seconds"] = seconds_since(t0);
   a.report.print(s, sentence(r, mr, s, budget_report.words) + (laid_out.empty() ? "" : "; " + laid_out));

@@ -113,6 +113,8 @@ class MethodRun {
   // input pixel (at least 150 dpi), cut to the image's rectangle: what a measure compares
   // with the input. `opaque`: every pen's ink painted over what is under it instead.
   Image render_over_image(bool opaque = false) const;
+  // The same as a whole page at `px_per_mm`: what the viewing-distance measure compares.
+  Image render_page(double px_per_mm) const;
 
  private:
   double preview_dpi_;
@@ -139,7 +141,9 @@ class MethodCommand {
 
   // The method: `check` turns its options into parameters before any file is read or
   // written (throws UserError); `prepare` readies it for the image (working grid,
-  // statistics) and returns how to draw it at any density.
+  // statistics) and returns how to draw it at any density. A method without a --measure
+  // or --fidelity of its own is given a --measure here: every method's measure reports the
+  // viewing-distance figures (eval/view.hpp) at --view-sigma.
   void define(std::function<void()> check, std::function<MethodDraft(const MethodInput&)> prepare);
 
  private:
@@ -159,6 +163,7 @@ class MethodCommand {
   std::string name_;
   std::shared_ptr<Args> args_;
   std::vector<std::unique_ptr<PngOutput>> pngs_;  // stable addresses: CLI11 writes into path
+  CLI::Option* measure_option_ = nullptr;  // the method's --measure or --fidelity
   std::function<void()> check_;
   std::function<MethodDraft(const MethodInput&)> prepare_;
 };
