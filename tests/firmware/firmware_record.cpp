@@ -167,11 +167,13 @@ bool status_position(const std::string& text, const MachineSettings& s, Steps& o
 
 namespace {
 
-// The first step index >= from after which the machine stands at p (from itself if it
-// stands there already); npos if none.
-size_t first_at(const StepLog& L, size_t from, Steps p) {
-  for (size_t i = from; i <= L.steps.size(); ++i)
-    if ((i == 0 ? Steps{} : L.steps[i - 1].pos) == p) return i;
+// The first step index >= from after which the machine stands within `slack` steps of p
+// on every axis (from itself if it stands there already); npos if none.
+size_t first_at(const StepLog& L, size_t from, Steps p, long slack = 0) {
+  for (size_t i = from; i <= L.steps.size(); ++i) {
+    const Steps q = i == 0 ? Steps{} : L.steps[i - 1].pos;
+    if (std::labs(q.x - p.x) <= slack && std::labs(q.y - p.y) <= slack && std::labs(q.z - p.z) <= slack) return i;
+  }
   return std::string::npos;
 }
 
@@ -200,7 +202,10 @@ std::vector<size_t> reset_steps(const StepLog& L, const std::vector<SessionEvent
     for (size_t k = ev.device + 1; k < device.size(); ++k) {
       Steps p;
       if (status_position(device[k].text, s, p)) {
+        // grbl counts a step in its position one interrupt before the pin pulses it: a
+        // reset in between leaves MPos a step ahead of the motors on an axis.
         at = first_at(L, anchor, p);
+        if (at == std::string::npos) at = first_at(L, anchor, p, 1);
         break;
       }
     }
