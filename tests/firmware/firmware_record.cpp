@@ -167,27 +167,42 @@ bool status_position(const std::string& text, const MachineSettings& s, Steps& o
 
 namespace {
 
-// The first step index >= from after which the machine stands at p (from itself if it
-// stands there already); npos if none.
-size_t first_at(const StepLog& L, size_t from, Steps p) {
-  for (size_t i = from; i <= L.steps.size(); ++i)
-    if ((i == 0 ? Steps{} : L.steps[i - 1].pos) == p) return i;
+// The first step index >= from after which the machine stands within `slack` steps of p
+// on every axis (from itself if it stands there already); npos if none.
+size_t first_at(const StepLog& L, size_t from, Steps p, long slack = 0) {
+  for (size_t i = from; i <= L.steps.size(); ++i) {
+    const Steps q = i == 0 ? Steps{} : L.steps[i - 1].pos;
+    if (std::labs(q.x - p.x) <= slack && std::labs(q.y - p.y) <= slack && std::labs(q.z - p.z) <= slack) return i;
+  }
   return std::string::npos;
 }
 
-// Where each reset of the session falls in the step log: the index of the first step
-// after it (see build_session). npos where the status reports do not tell.
-std::vector<size_t> reset_steps(const StepLog& L, const std::vector<SessionEvent>& events,
-                                const std::vector<DeviceLine>& device, const MachineSettings& s) {
-  std::vector<size_t> out;
+Steps minus(Steps a, Steps b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+Steps plus(Steps a, Steps b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+
+// Where a reset falls in the step log (the index of the first step after it; npos where the
+// status reports do not tell), and grbl's position less the motors' from then on.
+struct ResetPlace {
+  size_t step = std::string::npos;
+  Steps offset;
+};
+
+// Every reset of the session after the boot (see build_session). grbl counts a step in its
+// position one stepper interrupt before the pin pulses it, and a reset in between drops
+// the pulse: its MPos is then a step ahead of the motors on that axis, for good (grbl's
+// "position lost" after ALARM:3). O(device lines + steps).
+std::vector<ResetPlace> reset_steps(const StepLog& L, const std::vector<SessionEvent>& events,
+                                    const std::vector<DeviceLine>& device, const MachineSettings& s) {
+  std::vector<ResetPlace> out;
   size_t anchor = 0, scanned = 0;  // step index of the last status report placed; device lines read
+  Steps off;                       // grbl's position less the motors' in the current epoch
   bool booted = false;
   for (const SessionEvent& ev : events) {
     if (ev.kind != SessionEvent::Kind::Reset) continue;
     for (; scanned < ev.device && scanned < device.size(); ++scanned) {
       Steps p;
       if (!status_position(device[scanned].text, s, p)) continue;
-      const size_t i = first_at(L, anchor, p);
+      const size_t i = first_at(L, anchor, minus(p, off));
       if (i != std::string::npos) anchor = i;
     }
     if (!booted) {  // the boot banner: the log begins there
@@ -196,16 +211,18 @@ std::vector<size_t> reset_steps(const StepLog& L, const std::vector<SessionEvent
     }
     // The first report after it; past another banner if one came first (a host that
     // answers an outside reset's ALARM:3 with a reset of its own: no move in between).
-    size_t at = std::string::npos;
+    ResetPlace at;
     for (size_t k = ev.device + 1; k < device.size(); ++k) {
       Steps p;
-      if (status_position(device[k].text, s, p)) {
-        at = first_at(L, anchor, p);
-        break;
-      }
+      if (!status_position(device[k].text, s, p)) continue;
+      at.step = first_at(L, anchor, minus(p, off));
+      if (at.step == std::string::npos) at.step = first_at(L, anchor, minus(p, off), 1);
+      if (at.step != std::string::npos) off = minus(p, at.step == 0 ? Steps{} : L.steps[at.step - 1].pos);
+      break;
     }
+    at.offset = off;
     out.push_back(at);
-    if (at != std::string::npos) anchor = at;
+    if (at.step != std::string::npos) anchor = at.step;
   }
   return out;
 }
@@ -216,7 +233,7 @@ std::vector<size_t> reset_steps(const StepLog& L, const std::vector<SessionEvent
 // every answered move is one the step log shows whole, taking the most steps; the last
 // lines first, as the ones in flight are the newest. O(flushed x words x replies x steps).
 std::vector<std::string> in_flight(const std::vector<const HostLine*>& replies, const std::vector<HostLine>& lines,
-                                   const GcodeInterpreter& g, const StepWalker& walk) {
+                                   const GcodeInterpreter& g, const StepWalker& walk, Steps off) {
   const std::vector<size_t>& flushed = replies[0]->fragment_of;
   std::vector<std::string> best;
   size_t best_steps = 0;
@@ -234,7 +251,8 @@ std::vector<std::string> in_flight(const std::vector<const HostLine*>& replies, 
         if (replies[i]->reply != HostLine::Reply::Ok) continue;  // grbl refused it: it changed nothing
         try {
           const LineEffect e = trial.feed(texts.back());
-          if (e.motion && !(e.from == e.to)) fits = w.run(e.from, e.to).run == ExecutedBlock::Run::Complete;
+          if (e.motion && !(e.from == e.to))
+            fits = w.run(minus(e.from, off), minus(e.to, off)).run == ExecutedBlock::Run::Complete;
         } catch (const std::exception&) {
           fits = false;
         }
@@ -303,7 +321,8 @@ SessionRecord build_session(const StepLog& log, const std::vector<HostLine>& lin
   SessionRecord r;
   r.step_log = log;
   r.events = events;
-  const std::vector<size_t> resets = reset_steps(r.step_log, events, device, s);
+  const std::vector<ResetPlace> resets = reset_steps(r.step_log, events, device, s);
+  Steps off;  // grbl's position less the motors' (see reset_steps)
   GcodeInterpreter g(s, PenRule::servo());  // the pen rule plays no part in where grbl moves
   StepWalker walk(r.step_log);
   int epoch = -1;
@@ -311,14 +330,16 @@ SessionRecord build_session(const StepLog& log, const std::vector<HostLine>& lin
     if (ev.kind == SessionEvent::Kind::Reset) {
       ++epoch;
       const size_t e = static_cast<size_t>(epoch);
-      const size_t from = e > 0 && e - 1 < resets.size() && resets[e - 1] != std::string::npos ? resets[e - 1] : 0;
-      const size_t limit = e < resets.size() && resets[e] != std::string::npos ? resets[e] : std::numeric_limits<size_t>::max();
-      if (e > 0 && e - 1 < resets.size() && resets[e - 1] == std::string::npos)
-        r.problems.push_back("reset " + std::to_string(e) + ": no status report placed it in the step log");
+      const bool placed = e == 0 || (e - 1 < resets.size() && resets[e - 1].step != std::string::npos);
+      const size_t from = e > 0 && placed ? resets[e - 1].step : 0;
+      const size_t limit = e < resets.size() && resets[e].step != std::string::npos ? resets[e].step
+                                                                                     : std::numeric_limits<size_t>::max();
+      if (!placed) r.problems.push_back("reset " + std::to_string(e) + ": no status report placed it in the step log");
+      if (e > 0 && e - 1 < resets.size()) off = resets[e - 1].offset;
       if (const size_t skipped = walk.start_epoch(from, limit))
         r.problems.push_back(std::to_string(skipped) + " steps before reset " + std::to_string(e) + " follow no planned block");
-      r.epoch_start.push_back(walk.pos());  // grbl keeps its position across a soft reset
-      g.reset(walk.pos());
+      r.epoch_start.push_back(plus(walk.pos(), off));  // grbl keeps its position across a soft reset
+      g.reset(plus(walk.pos(), off));
       continue;
     }
     const HostLine& l = lines[ev.line];
@@ -331,7 +352,7 @@ SessionRecord build_session(const StepLog& log, const std::vector<HostLine>& lin
         replies.push_back(&lines[f->line]);
         at.push_back(f->line);
       }
-      const std::vector<std::string> texts = in_flight(replies, lines, g, walk);
+      const std::vector<std::string> texts = in_flight(replies, lines, g, walk, off);
       if (texts.empty()) r.problems.push_back("what grbl ran after reset " + std::to_string(epoch) + " is no run of flushed lines");
       for (size_t i = 0; i < texts.size(); ++i) r.fragment_text.push_back({at[i], texts[i]});
     }
@@ -347,7 +368,11 @@ SessionRecord build_session(const StepLog& log, const std::vector<HostLine>& lin
       continue;
     }
     if (!e.motion || e.from == e.to) continue;
-    ExecutedBlock b = walk.run(e.from, e.to);
+    // The walk is in the motors' steps; the block, as grbl planned it, in grbl's.
+    ExecutedBlock b = walk.run(minus(e.from, off), minus(e.to, off));
+    b.start = e.from;
+    b.planned.end = e.to;
+    b.stop = plus(b.stop, off);
     b.planned.rapid = e.rapid;
     b.epoch = epoch;
     r.blocks.push_back(b);
@@ -364,8 +389,6 @@ namespace {
 std::string where(const SessionRecord& s, size_t line, const HostLine& l) {
   return "session " + std::to_string(s.index) + " line " + std::to_string(line) + " `" + l.text + "`";
 }
-
-Steps plus(Steps a, Steps o) { return {a.x + o.x, a.y + o.y, a.z + o.z}; }
 
 std::string str(Steps p) { return std::to_string(p.x) + "," + std::to_string(p.y) + "," + std::to_string(p.z); }
 
