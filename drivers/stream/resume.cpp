@@ -171,13 +171,22 @@ long device_match(const Job& job, size_t next, const DevicePen& device, const Re
   const double tol = job.dialect == Dialect::GCode ? 0.02 : 0.6;  // mm (a couple of steps); plotter units
   lo = next;
   for (size_t moves = 0; lo > 0 && moves < window.back_moves; --lo) moves += L[lo - 1].motion;
-  size_t bytes = 0;
-  for (size_t k = lo; k <= L.size(); ++k) {
+  size_t bytes = 0, end = lo;
+  for (size_t k = lo; k <= L.size(); end = ++k) {
     if (device_before(L, k, device, tol)) return static_cast<long>(k);
     if (k == L.size()) break;
     if (device_within(L, k, device, tol)) return static_cast<long>(k);
     if (k >= next && (bytes += L[k].host_only ? 0 : L[k].text.size() + window.line_end_bytes) > window.ahead_bytes) break;
   }
+  // A board that restarted stands with its pen lifted at the end of a pen-down move: the
+  // move ran, then the reset stopped the spindle (seen on the real firmware after a dead
+  // host: without this the resume went back to the window's start and drew a stroke
+  // twice). Only when nothing matched as it is; the earliest such move.
+  if (window.back_moves > 0 && !device.down)
+    for (size_t k = std::max<size_t>(lo, 1); k <= std::min(end, L.size()); ++k)
+      if (L[k - 1].motion && pen_down_before(L, k) && std::abs(L[k - 1].x - device.x) < tol &&
+          std::abs(L[k - 1].y - device.y) < tol)
+        return static_cast<long>(k);
   return -1;
 }
 

@@ -266,6 +266,25 @@ TEST_CASE("resume point: a lifted pen at a stroke's start has not begun it", "[d
   CHECK(resume_point(job, journal, DevicePen{true, false, 15, 10}, window) == 5);
 }
 
+// A board that restarted (a dead host's connect found it held and reset it) stands with
+// its pen lifted where a pen-down move ended: the reset stopped the spindle after the move
+// ran. The resume goes on after that move, not from the window's start (which drew a whole
+// stroke twice on the real firmware). Only when nothing matches as it is.
+TEST_CASE("resume point: a restarted board's lifted pen at a pen-down move's end has drawn that move", "[drivers][journal]") {
+  // lines: 0 G21, 1 G90, 2 M5, 3 G0 X10 Y10, 4 M3 S30, 5 G1 X20 Y10 F600, 6 G1 X20 Y20,
+  //        7 M5, 8 G0 X10 Y10, 9 M3 S30, 10 G1 X0 Y10, 11 M5
+  Job job = parse_gcode_job("G21\nG90\nM5\nG0 X10 Y10\nM3 S30\nG1 X20 Y10 F600\nG1 X20 Y20\nM5\nG0 X10 Y10\nM3 S30\n"
+                            "G1 X0 Y10\nM5\n");
+  JournalState journal;
+  journal.last_acked = 5;  // the journal ends with the first move; the board ran it and was reset
+  const ResumeWindow restarted{128, 15, 1, 0};
+  CHECK(resume_point(job, journal, DevicePen{true, false, 20, 10}, restarted) == 6);
+  // Not restarted: a lifted pen there matches nothing, the window's start as before.
+  CHECK(resume_point(job, journal, DevicePen{true, false, 20, 10}, ResumeWindow{128, 0, 1, 0}) == 6);
+  // A point where a pen-up travel also ends matches that, as it is, first.
+  CHECK(resume_point(job, journal, DevicePen{true, false, 10, 10}, restarted) == 4);
+}
+
 TEST_CASE("resume plans: lift, travel, restore the pen, dots are not touched twice", "[drivers][journal]") {
   // lines: 0 G21, 1 G90, 2 M5, 3 G0 X10 Y10, 4 M3 S30, 5 G4 P0.1, 6 G1 X20 Y10 F600, 7 G1 X20 Y20,
   //        8 M5, 9 G0 X50 Y50, 10 M3 S30, 11 G4 P0.1, 12 M5, 13 G0 X0 Y0
