@@ -357,9 +357,7 @@ SessionRecord build_session(const StepLog& log, const std::vector<HostLine>& lin
       for (size_t i = 0; i < texts.size(); ++i) r.fragment_text.push_back({at[i], texts[i]});
     }
     if (l.reply != HostLine::Reply::Ok) continue;
-    std::string text = l.text;
-    for (const auto& [line, ran] : r.fragment_text)
-      if (line == ev.line) text = ran;
+    const std::string text = r.text_ran(ev.line, lines);
     LineEffect e;
     try {
       e = g.feed(text);
@@ -449,9 +447,7 @@ void interpret_session(const FirmwareRecord& r, const SessionRecord& s, const Pe
     }
     const HostLine& l = r.lines[ev.line];
     if (l.reply != HostLine::Reply::Ok) continue;
-    std::string text = l.text;
-    for (const auto& [line, tail] : s.fragment_text)
-      if (line == ev.line) text = tail;
+    const std::string text = s.text_ran(ev.line, r.lines);
     LineEffect e;
     try {
       e = g.feed(text);

@@ -116,6 +116,12 @@ struct SessionRecord {
   std::vector<SessionEvent> events;   // replies and resets, in grbl's order
   std::vector<Steps> epoch_start;     // where the machine stood at each boot / reset
   std::vector<std::pair<size_t, std::string>> fragment_text;  // line index -> what grbl ran of the flushed lines
+  // The text grbl ran for line `index` (its own, or what fragment_text found for it).
+  std::string text_ran(size_t index, const std::vector<HostLine>& lines) const {
+    for (const auto& [line, ran] : fragment_text)
+      if (line == index) return ran;
+    return lines[index].text;
+  }
   std::vector<std::string> problems;  // lines the model could not follow, steps no block explains
 };
 
