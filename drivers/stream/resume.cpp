@@ -308,11 +308,15 @@ ResumePlan resume_from_journal(const Job& job, const JournalState& journal, cons
   // A board that lost its planner and stands at machine zero, pen up, was powered on
   // (or re-zeroed) there: that the job also passes there proves nothing (the job's
   // closing travel home would read as "it ran to the end").
-  const bool zeroed = look && window.back_moves > 0 && !device.down && std::hypot(device.x, device.y) < 0.02;
+  const bool zeroed = look && (window.back_moves > 0 || window.fresh_back_moves > 0) && !device.down &&
+                      std::hypot(device.x, device.y) < 0.02;
   long match = look ? device_match(job, after, device, window, lo) : static_cast<long>(after);
   if (zeroed || unknown) match = -1;
   if (match < 0) {
-    ResumePlan rp = resume_fresh(job, journal, std::min(lo, unproven_start(L, after, window)));
+    // Fresh: every acknowledged move it could have held unrun may be undrawn.
+    size_t fresh = after;
+    for (size_t moves = 0; fresh > 0 && moves < window.fresh_back_moves; --fresh) moves += L[fresh - 1].motion;
+    ResumePlan rp = resume_fresh(job, journal, std::min({lo, fresh, unproven_start(L, after, window)}));
     rp.note = std::string(unknown ? "the device cannot say where its pen is" : "the device's pen matches nothing the journal allows") +
               " (it may have come back fresh, its buffers lost): resuming at line " + std::to_string(rp.next + 1) + ", " + rp.why;
     return rp;

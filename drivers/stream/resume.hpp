@@ -51,6 +51,11 @@ struct ResumeWindow {
   // a device that came back fresh: an HPGL plotter paced by XON/XOFF or RTS/CTS, whose
   // acknowledgement is the write, loses its buffer with the power.
   size_t unproven_bytes = 0;
+  // Acknowledged moves a device that came back fresh (its pen matching nothing the journal
+  // allows) may never have run, whether or not it was seen to restart: grbl answers a
+  // line once it is in the planner, and a board whose reset went unseen (no banner: the
+  // port opened after it) lost its planner all the same.
+  size_t fresh_back_moves = 0;
 };
 
 // The first line to resume from. After a stop that dropped the device's buffers (the
@@ -62,12 +67,13 @@ struct ResumeWindow {
 size_t resume_point(const Job& job, const JournalState& journal, const DevicePen& device, const ResumeWindow& window);
 
 // What `plot --resume` does once the device is connected and idle: resume_point, then
-// plan_resume from there. A device whose pen matches nothing there, that lost its planner
-// and stands at machine zero, or (unproven_bytes) cannot say, came back fresh (a power
-// loss: position gone or re-zeroed): it resumes from the journal's last proof (a status
-// report's position, the line split there; for HPGL only an instruction's start or end)
-// when that is consistent and not before the first line the device may not have run,
-// else from that line. The plan says how much pen-down path it may draw again and why.
+// plan_resume from there. A device whose pen matches nothing there, that may have lost
+// its planner and stands at machine zero, or (unproven_bytes) cannot say, came back
+// fresh (a power loss: position gone or re-zeroed): it resumes from the journal's last
+// proof (a status report's position, the line split there; for HPGL only an
+// instruction's start or end) when that is consistent and not before the first line the
+// device may not have run (fresh_back_moves moves, unproven_bytes bytes back), else
+// from that line. The plan says how much pen-down path it may draw again and why.
 // O(window + job size).
 ResumePlan resume_from_journal(const Job& job, const JournalState& journal, const DevicePen& device = {},
                                const ResumeWindow& window = {});

@@ -342,6 +342,29 @@ TEST_CASE("resume after a fresh board: the proof splits the line, an inconsisten
   CHECK(resume_from_journal(hp, hj, DevicePen{}, paced).next == 3);
 }
 
+// The real grbl on simavr, as a board whose port opens after its reset: the fresh board
+// sends no banner on connect, so the streamer never saw it restart (back_moves 0). Its
+// planner was lost all the same: the acknowledged moves it may have held are undrawn.
+TEST_CASE("resume after a fresh board nobody saw restart: the moves its planner held count as undrawn",
+          "[drivers][resume][power]") {
+  const Job job = parse_gcode_job("G21\nG90\nM5\nG0 X10 Y10\nM3 S30\nG1 X20 Y10 F600\nG1 X20 Y20\nG1 X10 Y20\nM5\nG0 X0 Y0\n");
+  const DevicePen fresh{true, false, 0, 0};
+  const ResumeWindow unseen{128, 0, 1, 0, 3};  // no restart seen; 3 moves may be held unrun
+  JournalState js;
+  js.last_acked = 7;
+  ResumePlan rp = resume_from_journal(job, js, fresh, unseen);
+  CHECK(rp.next == 4);  // back 3 moves (lines 6-8), settled to the stroke's pen-down
+  CHECK(rp.redraw == Approx(30));
+  js.proven = {6, 20.001, 13.5, 0};
+  rp = resume_from_journal(job, js, fresh, unseen);
+  CHECK(rp.next == 6);
+  CHECK(rp.redraw == Approx(6.5 + 10));
+  // Without the planner's moves (the window as it was), the board at the origin read as
+  // the job's closing travel home: the three moves and the rest were skipped.
+  js.proven = {};
+  CHECK(resume_from_journal(job, js, fresh, ResumeWindow{128, 0, 1, 0, 0}).next == job.lines.size());
+}
+
 TEST_CASE("journal: pos records round-trip, the last wins, a torn one is ignored, a bad one refused",
           "[drivers][journal][power]") {
   const std::string path = pl_temp_path("pos.journal");

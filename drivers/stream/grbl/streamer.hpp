@@ -76,8 +76,13 @@ class Streamer {
   // How far grbl may be from the journal of a session that did not stop it: its receive
   // buffer ahead (a dead host's last lines ran, reset or not: a reset at connect loses
   // only what was still buffered), and, if its buffers were lost, its planner behind.
+  // Blocks grbl has taken out of its planner but not yet run: the stepper's segment buffer
+  // (stepper.c, SEGMENT_BUFFER_SIZE 6) may hold the tails of that many short blocks, each
+  // discarded from the planner once fully prepared.
+  static constexpr size_t kStepperBlocks = 6;
   ResumeWindow resume_window() const {
-    return {static_cast<size_t>(o_.rx_buffer), restarted_ ? static_cast<size_t>(o_.planner_blocks) : 0, 1, 0};
+    const size_t planner = static_cast<size_t>(o_.planner_blocks);
+    return {static_cast<size_t>(o_.rx_buffer), restarted_ ? planner : 0, 1, 0, planner + kStepperBlocks};
   }
   // Streams job lines [start, end) after `preamble`. Throws DeviceError / TransportError;
   // the journal is synced first, so `plot --resume` can continue.
