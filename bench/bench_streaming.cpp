@@ -8,14 +8,21 @@
 //
 // The simulator runs N times faster than real time, the wire and latency included,
 // so the proportions are those of the real machine while the benchmark takes seconds.
+// BM_StreamingJournal: the same job with character counting, without a journal and with
+// one (every ack, every status report's proof "pos N X Y Z", fsync'd every 100 ms as
+// `stipplot plot` keeps it): the journal's cost in plot time.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
+#include <unistd.h>
+
 #include "drivers/job/gcode_reader.hpp"
+#include "drivers/stream/journal.hpp"
 #include "drivers/stream/grbl/streamer.hpp"
 #include "drivers/transport/posix_serial.hpp"
 #include "sim/grbl_sim.hpp"
@@ -59,7 +66,7 @@ struct Outcome {
   size_t overflow;
 };
 
-Outcome run(io::grbl::Mode mode, const io::Job& job) {
+Outcome run(io::grbl::Mode mode, const io::Job& job, io::Journal* journal = nullptr) {
   sim::GrblSimConfig c;
   c.speedup = g_speedup;
   c.link.baud = 115200;
@@ -73,7 +80,7 @@ Outcome run(io::grbl::Mode mode, const io::Job& job) {
   io::grbl::Streamer st(port, o);
   st.connect();
   auto t0 = std::chrono::steady_clock::now();
-  st.stream(job, 0, {}, nullptr);
+  st.stream(job, 0, {}, journal);
   sim.wait_idle(600);
   double real = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   sim::SimStats s = sim.stats();
@@ -97,6 +104,47 @@ void BM_StreamingModes(benchmark::State& state) {
   state.counters["rx_overflow"] = static_cast<double>(cc.overflow + sw.overflow);
 }
 BENCHMARK(BM_StreamingModes)->Iterations(1)->Unit(benchmark::kSecond);
+
+// Records of a kind in a journal file ("ack ", "pos ").
+size_t count_records(const std::string& path, const std::string& kind) {
+  std::FILE* f = std::fopen(path.c_str(), "r");
+  if (!f) return 0;
+  size_t n = 0;
+  char line[256];
+  while (std::fgets(line, sizeof line, f)) n += std::strncmp(line, kind.c_str(), kind.size()) == 0;
+  std::fclose(f);
+  return n;
+}
+
+void BM_StreamingJournal(benchmark::State& state) {
+  io::Job job = io::parse_gcode_job(curves_job(10, 250));
+  char tmpl[] = "/tmp/stipplot-bench-journal-XXXXXX";
+  const int fd = ::mkstemp(tmpl);
+  if (fd >= 0) ::close(fd);
+  const std::string path = tmpl;
+  Outcome plain{}, journalled{};
+  size_t acks = 0, proofs = 0;
+  for (auto _ : state) {
+    plain = run(io::grbl::Mode::CharacterCounting, job);
+    {
+      io::JournalHeader h{"bench.gcode", "0", "gcode", "", "", job.lines.size()};
+      io::Journal journal(path, h);
+      journalled = run(io::grbl::Mode::CharacterCounting, job, &journal);
+    }
+    acks = count_records(path, "ack ");
+    proofs = count_records(path, "pos ");
+  }
+  std::remove(path.c_str());
+  state.counters["lines"] = static_cast<double>(job.lines.size());
+  state.counters["plain_plot_s"] = plain.plot_s;
+  state.counters["journal_plot_s"] = journalled.plot_s;
+  state.counters["journal_over_plain"] = plain.plot_s > 0 ? journalled.plot_s / plain.plot_s : 0;
+  state.counters["journal_starved_pct"] = 100 * journalled.starved_share;
+  state.counters["ack_records"] = static_cast<double>(acks);
+  state.counters["pos_records"] = static_cast<double>(proofs);
+  state.counters["proofs_per_s"] = journalled.plot_s > 0 ? static_cast<double>(proofs) / journalled.plot_s : 0;
+}
+BENCHMARK(BM_StreamingJournal)->Iterations(1)->Unit(benchmark::kSecond);
 
 }  // namespace
 
