@@ -25,7 +25,7 @@ struct Options {
   Mode mode = Mode::CharacterCounting;
   int rx_buffer = 128;
   int planner_blocks = 15;
-  double poll_hz = 5;                  // grbl's docs: at most 5-10 Hz
+  double poll_hz = 10;                 // grbl's docs: at most 5-10 Hz; each report is a proof for the journal
   Millis banner_timeout{10000};
   Millis silence_timeout{30000};       // no byte at all for this long: the device is gone
   Millis probe_timeout{1500};          // connect: wait this long for a status report before a reset
