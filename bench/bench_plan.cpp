@@ -252,7 +252,7 @@ static void BM_PlanStipple(benchmark::State& state) {
 }
 BENCHMARK(BM_PlanStipple)->Arg(1530)->Unit(benchmark::kMillisecond)->Iterations(1);
 
-// The Hubble deep field stippled as `stipplot stipple hubble_deep_field.jpg -a 1.2 -b 4
+// The Hubble deep field stippled as `stipplot stipple hubble_deep_field.jpg -a 1.2px -b 4px
 // -o x.gcode` does (216k dots on A4), planned from the grbl-servo home: pen-up travel /
 // EMST for the planner and, in the same process, the previous planner (whose 2 s
 // wall-clock budget gave 1.089 on a quiet machine and 1.21-1.26 under load).

@@ -125,7 +125,7 @@ void register_sketch(CLI::App& app) {
   add_max_pens_option(cmd, args->max_pens);
   cmd->add_option("--reach", args->p.reach, "--pens: RGB reach d of every pen (0 = distance to the nearest other pen, at most sqrt(3)/2)")
       ->capture_default_str()->group("Sketch");
-  cmd->add_option("--cell", args->cell, "Sampling grid cell: mm on paper (0.6, 0.6mm), input pixels (3px), or auto: sqrt(--mark x pen width), one mark's ink per cell")
+  cmd->add_option("--cell", args->cell, "Sampling grid cell: on paper (0.6mm), in input pixels (3px), or auto: sqrt(--mark x pen width), one mark's ink per cell")
       ->capture_default_str()->group("Sketch");
   cmd->add_option("--mark", args->mark, "Stroke length where the image is flat: mm (1.2, 1.2mm), cm, in, pt or px (1/96 in)")->capture_default_str()->group("Strokes");
   cmd->add_option("--edge-length", args->edge_length, "Stroke length at strong edges: mm (3.5, 3.5mm), cm, in, pt or px (1/96 in)")->capture_default_str()->group("Strokes");

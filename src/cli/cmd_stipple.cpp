@@ -279,7 +279,7 @@ void register_stipple(CLI::App& app) {
       "color (binary per R, G, B: the paper's 27-colour screen result), cmyk (ink separation for plotting).\n"
       "color and cmyk take --pens FILE.toml (your pens for their inks) and --max-pens N.\n"
       "Laws: tone (default: dots sized and spaced on the page so the ink lays the photo's tones, as\n"
-      "dense as --time allows), linear (the paper's r = a + b d/255; -a/-b in mm or input px, 3px).\n"
+      "dense as --time allows), linear (the paper's r = a + b d/255; -a/-b with their unit: 3px or 0.2mm).\n"
       "Example: stipplot stipple photo.jpg -o photo.svg --preview photo.png --time 45min\n"
       "         stipplot stipple photo.jpg -o photo.svg --law linear -a 3px -b 15px");
   CLI::App* cmd = m->cli();
@@ -292,8 +292,8 @@ void register_stipple(CLI::App& app) {
   cmd->add_option("--max-dot", args->max_dot, "Tone: the largest dot (mm, cm, in, pt); default: chosen for --time")
       ->group(g);
   std::vector<CLI::Option*> linear = {
-      cmd->add_option("-a", args->a, "Linear: radius offset a, mm or input px (3px): r = a + b*d/255")->capture_default_str()->group(g),
-      cmd->add_option("-b", args->b, "Linear: radius slope b, mm or input px")->capture_default_str()->group(g),
+      cmd->add_option("-a", args->a, "Linear: radius offset a in input pixels (3px) or on paper (0.2mm): r = a + b*d/255")->capture_default_str()->group(g),
+      cmd->add_option("-b", args->b, "Linear: radius slope b in input pixels (15px) or on paper (1mm)")->capture_default_str()->group(g),
       cmd->add_option("--a-b", args->a_b, "Linear, binary/colour: black dot radius offset")->capture_default_str()->group(g),
       cmd->add_option("--b-b", args->b_b, "Linear, binary/colour: black dot radius slope")->capture_default_str()->group(g),
       cmd->add_option("--a-w", args->a_w, "Linear, binary/colour: white dot radius offset")->capture_default_str()->group(g),

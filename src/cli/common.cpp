@@ -37,7 +37,7 @@ void add_placement_options(CLI::App* cmd, PlacementArgs& a) {
   cmd->add_flag("--landscape", a.landscape, "Long side of the page horizontal")->group("Page");
   cmd->add_option("--pen-width", a.pen_width, "Pen width: mm (0.3, 0.3mm), cm, in, pt or px (1/96 in)")->capture_default_str()->group("Page");
   cmd->add_option("--dot-size", a.dot_size,
-                  "Drawn dot diameter: mm (0.4, 0.4mm), cm, in, pt or input pixels (1.5px); 0 = one pen touch")
+                  "Drawn dot diameter on paper (0.4mm) or in input pixels (1.5px); 0 = one pen touch")
       ->capture_default_str()->group("Page");
 }
 

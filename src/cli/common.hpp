@@ -22,7 +22,7 @@ struct PlacementArgs {
   std::string margin = "10";
   bool landscape = false;
   std::string pen_width = "0.3";
-  std::string dot_size = "0";
+  std::string dot_size = "0mm";
   Placement resolve() const;  // throws UserError naming the option
 };
 void add_placement_options(CLI::App* cmd, PlacementArgs& a);

@@ -182,6 +182,12 @@ std::string pixel_size(const Image& image) {
   return std::to_string(image.width) + "x" + std::to_string(image.height) + " px";
 }
 
+// The one rule for lengths, in every method's --help (README "Lengths").
+constexpr const char* kLengthRule =
+    "Lengths: a number and its unit: mm, cm, in, pt or px. A bare number is mm where only paper is\n"
+    "meant (--margin 10). Where a length can be on paper or in input pixels (stipple -a, -b, --dot-size,\n"
+    "sketch --cell), a bare number is refused: write 3px (input pixels) or 0.2mm.";
+
 std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::string& name,
                                                   const std::string& description, const std::string& footer) {
   std::shared_ptr<MethodCommand> m(new MethodCommand);
@@ -189,7 +195,7 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
   m->args_ = std::make_shared<Args>();
   Args& a = *m->args_;
   CLI::App* cmd = app.add_subcommand(name, description);
-  cmd->footer(footer);
+  cmd->footer(footer + "\n" + kLengthRule);
   cmd->add_option("input", a.input, "Input image (PNG, JPEG, BMP, TGA)")->required();
   cmd->add_option("-o,--output", a.output,
                   "Output file: .svg (the drawing), .gcode (grbl) or .hpgl (planned for --profile)")

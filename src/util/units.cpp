@@ -80,10 +80,17 @@ void require_at_most_a_km(double mm, std::string_view text, const char* option) 
 
 Length Length::parse(std::string_view text, const char* option, Bare bare) {
   const char* examples = bare == Bare::px ? "3, 3px or 0.5mm (a bare number is input pixels)"
-                                          : "0.4, 0.4mm or 1.5px (mm, cm, in, pt or px)";
+                                          : "0.4mm or 1.5px (mm, cm, in, pt or px of the input image)";
   double v = 0;
   std::string unit;
   if (!split_number_unit(text, v, unit) || !std::isfinite(v) || v < 0) bad_length(text, option, examples);
+  if (unit.empty() && bare == Bare::refuse && v != 0) {
+    std::string n(text);
+    while (!n.empty() && blank(n.front())) n.erase(n.begin());
+    while (!n.empty() && blank(n.back())) n.pop_back();
+    throw UserError(std::string(option) + " " + n + ": a length needs a unit here: " + n + "px (input pixels) or " + n +
+                    "mm (on paper)");
+  }
   Length l;
   if (unit == "px" || (unit.empty() && bare == Bare::px)) {
     if (!(v <= 1e6)) throw UserError(std::string(option) + ": " + std::string(text) + " is more than 1000000 px");

@@ -24,12 +24,17 @@ struct Length {
   bool in_px = false;
   double to_mm(double mm_per_px) const { return in_px ? value * mm_per_px : value; }
 
-  // What a bare number means for the option: millimetres everywhere except where an
-  // option sizes a mark in the paper's pixels (pointillism --radius 3 = 3 px).
-  enum class Bare { mm, px };
-  // "0.4", "0.4mm", "1.5px", "0.1cm", "0.02in", "1pt". Throws UserError naming `option`
-  // for a malformed, negative or non-finite length or an unknown unit.
-  static Length parse(std::string_view text, const char* option, Bare bare = Bare::mm);
+  // What a bare number means. One rule: a length has its unit. Where an option takes
+  // either a length on paper or one in input pixels, a bare number could be read both
+  // ways (the papers give theirs in pixels; stipplot's defaults show "3px"), so it is
+  // refused, naming both readings (refuse, the default); 0 needs none. Where the option's
+  // bare number has a unit of its own that its default shows (pointillism --radius 3, in
+  // grid cells of a pen width, = 3px), px.
+  enum class Bare { refuse, px };
+  // "0.4mm", "1.5px", "0.1cm", "0.02in", "1pt", "0". Throws UserError naming `option` for
+  // a malformed, negative or non-finite length, an unknown unit, or a bare number that
+  // `bare` refuses.
+  static Length parse(std::string_view text, const char* option, Bare bare = Bare::refuse);
 };
 
 // A length that only exists on paper (margins, pen widths, tolerances): bare numbers in

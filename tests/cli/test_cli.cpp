@@ -12,7 +12,7 @@ TEST_CASE("stipple runs every method and writes SVG + preview", "[cli]") {
   test::TempDir t;
   for (const char* m : {"random", "gray", "negative", "binary", "color", "cmyk"}) {
     auto r = test::run_cli("stipple " + test::example("horse.png") + " -o " + t.file("o.svg") + " --preview " +
-                           t.file("p.png") + " --method " + m + " -a 2 -b 8 --json");
+                           t.file("p.png") + " --method " + m + " -a 2px -b 8px --json");
     INFO(m << ": " << r.err);
     REQUIRE(r.exit_code == 0);
     REQUIRE(test::count_lines(r.out) == 1);

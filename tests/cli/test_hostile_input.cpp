@@ -144,8 +144,8 @@ TEST_CASE("damaged images are named for what they are", "[cli][bad-input][image]
 TEST_CASE("out-of-range numbers name the option, its unit and its range", "[cli][bad-input]") {
   run_cases({
       {"stipple DIR/in.png -o DIR/o.svg --page 210x297in --preview DIR/p.png", "lower --preview-dpi"},
-      {"stipple DIR/in.png -o DIR/o.svg --preview DIR/p.png --dot-size 1e308", "--dot-size"},
-      {"sketch DIR/in.png -o DIR/o.svg --cell 2147483648", "--cell"},
+      {"stipple DIR/in.png -o DIR/o.svg --preview DIR/p.png --dot-size 1e308mm", "--dot-size"},
+      {"sketch DIR/in.png -o DIR/o.svg --cell 2147483648mm", "--cell"},
       {"pointillism DIR/in.png -o DIR/o.svg --fidelity-sigma 1e308", "--fidelity-sigma"},
   });
 }

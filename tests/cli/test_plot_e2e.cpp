@@ -52,7 +52,7 @@ TEST_CASE("plot plans an SVG as export does, from machine zero", "[cli][plot]") 
 
 TEST_CASE("a stipple job plots on the simulated HPGL plotter", "[cli][plot][e2e]") {
   test::TempDir t;
-  REQUIRE(test::run_cli("stipple " + test::example("horse.png") + " -a 4 -b 20 -q --landscape --margin 12 --profile hp7475a-a4 -o " +
+  REQUIRE(test::run_cli("stipple " + test::example("horse.png") + " -a 4px -b 20px -q --landscape --margin 12 --profile hp7475a-a4 -o " +
                         t.file("h.hpgl"))
               .exit_code == 0);
   auto r = test::run_cli("plot " + t.file("h.hpgl") + " --profile hp7475a-a4 --sim --sim-speedup 400 --json -q");

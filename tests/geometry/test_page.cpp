@@ -49,7 +49,7 @@ TEST_CASE("landscape turns the long side horizontal", "[page]") {
 }
 
 TEST_CASE("lengths in mm or pixels", "[page]") {
-  CHECK(Length::parse("0.4", "--x").to_mm(2) == Approx(0.4));
+  CHECK(Length::parse("0", "--x").to_mm(2) == 0);  // 0 is 0 in any unit
   CHECK(Length::parse("0.4mm", "--x").to_mm(2) == Approx(0.4));
   CHECK(Length::parse("1.5px", "--x").to_mm(2) == Approx(3));
   CHECK_THROWS_WITH(Length::parse("-1", "--dot-size"), Catch::Contains("--dot-size"));
@@ -65,7 +65,10 @@ TEST_CASE("lengths - one grammar for paper units and image pixels", "[page][unit
   CHECK(Length::parse("3", "--radius", Length::Bare::px).in_px);
   CHECK(Length::parse("3px", "--radius", Length::Bare::px).in_px);
   CHECK_FALSE(Length::parse("0.5mm", "--radius", Length::Bare::px).in_px);
-  CHECK(Length::parse("0.4", "--x").value == 0.4);  // bare numbers exactly as written
+  CHECK(Length::parse("0.4mm", "--x").value == 0.4);  // numbers exactly as written
+  // A bare number could be either unit: refused, naming both readings.
+  CHECK_THROWS_WITH(Length::parse("6", "-a"), "-a 6: a length needs a unit here: 6px (input pixels) or 6mm (on paper)");
+  CHECK_THROWS_WITH(Length::parse(" 0.4 ", "--dot-size"), Catch::Contains("0.4px (input pixels) or 0.4mm"));
   CHECK_THROWS_WITH(Length::parse("3furlong", "--cell"), Catch::Contains("--cell"));
   CHECK_THROWS_AS(Length::parse("0x10", "--x"), UserError);  // no hex
   CHECK_THROWS_AS(Length::parse("inf", "--x"), UserError);

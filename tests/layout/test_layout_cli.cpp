@@ -232,7 +232,7 @@ TEST_CASE("bad layout options are one error line, and no file", "[cli][layout]")
 TEST_CASE("a method's plot for the HP 7475A just works: its sheet, turned, inside the reach", "[cli][layout]") {
   test::TempDir t;
   const std::string horse = std::string(STIPPLOT_SOURCE_DIR) + "/examples/horse.png";
-  auto r = test::run_cli("stipple " + horse + " -a 4 -b 20 -o " + t.file("p.hpgl") + " --profile hp7475a-a4 --json");
+  auto r = test::run_cli("stipple " + horse + " -a 4px -b 20px -o " + t.file("p.hpgl") + " --profile hp7475a-a4 --json");
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   const auto j = nlohmann::json::parse(r.out);

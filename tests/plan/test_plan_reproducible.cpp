@@ -40,7 +40,7 @@ TEST_CASE("the same command under full CPU load writes byte-identical G-code", "
   // ~31k dots at three times the default effort: a few tenths of a second of
   // improvement on a quiet machine, which a time budget would cut at a different point
   // under load (as --optimize-seconds 0.3 does).
-  const std::string args = "stipple " + img + " -a 1 -b 4 --optimize-effort 1 --json -o ";
+  const std::string args = "stipple " + img + " -a 1px -b 4px --optimize-effort 1 --json -o ";
   const auto quiet = test::run_cli(args + dir.file("quiet.gcode"));
   REQUIRE(quiet.exit_code == 0);
   test::RunResult loaded;

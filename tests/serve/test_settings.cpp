@@ -25,8 +25,9 @@ TEST_CASE("serve schema: the controls are the CLI's own options with their defau
   const json& opts = m["stipple"]["options"];
   const json* a = find(opts, "-a");
   REQUIRE(a);
-  // A length: millimetres unless written in another unit, as the default is ("3px").
-  CHECK((*a)["unit"] == "mm");
+  // A length in input pixels or on paper: the unit its default is written in ("3px"),
+  // which the studio keeps on every value it sends (a bare number is refused).
+  CHECK((*a)["unit"] == "px");
   CHECK((*a)["flag"] == false);
   CHECK((*a)["default"] == "3px");
   const json* method = find(opts, "--method");

@@ -163,7 +163,7 @@ TEST_CASE("serve http: a photo previews and plots on the simulator as the CLI do
   REQUIRE(r->status == 200);
   const json photo = json::parse(r->body);
   CHECK(photo["width"].get<int>() > 0);
-  const std::string settings = R"({"method":"stipple","options":{"-b":"20","--seed":"3"}})";
+  const std::string settings = R"({"method":"stipple","options":{"-b":"20px","--seed":"3"}})";
   r = cl.Post("/api/preview", settings, "application/json");
   REQUIRE(r->status == 200);
   const json p = json::parse(r->body);
@@ -171,7 +171,7 @@ TEST_CASE("serve http: a photo previews and plots on the simulator as the CLI do
   CHECK(p["plot_s"].get<double>() > 0);
   CHECK(p["fidelity"].get<double>() > 0);
   // The profile is named: its sheet is the page, as for the plot's job.
-  CHECK(p["command"] == "stipplot stipple photo.png -o drawing.svg --preview drawing.png -b 20 --seed=3 --profile=grbl-servo");
+  CHECK(p["command"] == "stipplot stipple photo.png -o drawing.svg --preview drawing.png -b 20px --seed=3 --profile=grbl-servo");
   auto png_r = cl.Get(("" + p["preview"].get<std::string>()).c_str());
   CHECK(png_r->status == 200);
   CHECK(png_r->get_header_value("Content-Type") == "image/png");
@@ -194,7 +194,7 @@ TEST_CASE("serve http: a photo previews and plots on the simulator as the CLI do
   const std::string job = st["job"];
   test::TempDir cli;
   std::filesystem::copy_file(dir.file("photo.png"), cli.file("photo.png"));
-  const auto run = run_child({STIPPLOT_BIN, "stipple", "photo.png", "-o", "job.gcode", "-b", "20", "--seed=3",
+  const auto run = run_child({STIPPLOT_BIN, "stipple", "photo.png", "-o", "job.gcode", "-b", "20px", "--seed=3",
                               "--profile=grbl-servo"}, cli.path.string());
   REQUIRE(run.exit_code == 0);
   CHECK(read_all(cli.file("job.gcode")) == read_all(dir.file(job)));
@@ -238,7 +238,7 @@ json wait_for_plot(httplib::Client& cl, const std::function<bool(const json&)>& 
 // A photo, a four-pen cmyk preview and a plot on the simulator, run until its first pen change.
 json start_cmyk_plot(httplib::Client& cl) {
   REQUIRE(cl.Post("/api/photo", read_all(std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png"), "image/png")->status == 200);
-  REQUIRE(cl.Post("/api/preview", R"({"method":"stipple","options":{"--method":"cmyk","-b":"40"}})", "application/json")->status == 200);
+  REQUIRE(cl.Post("/api/preview", R"({"method":"stipple","options":{"--method":"cmyk","-b":"40px"}})", "application/json")->status == 200);
   REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 200);
   return wait_for_plot(cl, [](const json& j) { return j["status"] == "pen_change" || j["status"] == "done"; });
 }
@@ -314,7 +314,7 @@ TEST_CASE("serve http: a plot an earlier server left unfinished is offered for r
   CHECK(st["result"]["lines_acked"].get<size_t>() < st["lines"].get<size_t>());
   // A new plot is numbered after the one left behind.
   REQUIRE(cl.Post("/api/photo", read_all(std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png"), "image/png")->status == 200);
-  REQUIRE(cl.Post("/api/preview", R"({"method":"stipple","options":{"-b":"60"}})", "application/json")->status == 200);
+  REQUIRE(cl.Post("/api/preview", R"({"method":"stipple","options":{"-b":"60px"}})", "application/json")->status == 200);
   REQUIRE(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 200);
   CHECK(json::parse(cl.Get("/api/state")->body)["plots"]["sim"]["job"] == "plot-2.gcode");
   REQUIRE(cl.Post("/api/plot/abort", R"({"port":"sim"})", "application/json")->status == 200);
