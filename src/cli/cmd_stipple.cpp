@@ -356,7 +356,8 @@ class ConnectDraft {
     r.summary["law"] = "tone";
     r.summary["connect"] = {{"points", st.points},      {"lines", st.lines},         {"touches", st.touches},
                             {"links", st.links},        {"lifted", st.lifted},       {"length_m", st.length_mm / 1000},
-                            {"lift_length", p.lift_length}, {"lift_tone", p.lift_tone}};
+                            {"lift_length", p.lift_length}, {"lift_tone", p.lift_tone},
+                            {"solid_cells", st.solid_cells}, {"hatch_m", st.hatch_mm / 1000}};
     r.summary["fade"] = p.fade;
     r.summary["cell_mm"] = it->second->grid.cell_mm;
     r.summary["grid"] = {it->second->grid.image.width, it->second->grid.image.height};
@@ -365,6 +366,7 @@ class ConnectDraft {
     c.precision(1);
     c << st.points << " points joined in " << st.lines << " lines of " << st.length_mm / 1000 << " m";
     if (st.touches) c << " and " << st.touches << " touches";
+    if (st.hatch_mm > 0) c << ", " << st.hatch_mm / 1000 << " m of it hatching solid fields";
     c << " (" << to_string(a_.m) << ", connected, " << pixel_size(in_.image) << ")";
     r.counts = c.str();
     return r;
@@ -380,8 +382,13 @@ class ConnectDraft {
     const ConnectParams p = params_at(k);
     const double cell = cell_at(k);
     double t = 0;
+    const double pitch = connect_solid_pitch_mm(pen_, p.fade);
     for (int v = 0; v < 256; ++v) {
       const double area = level_area_[static_cast<size_t>(v)];
+      if (area > 0 && p.fade * tone(v) >= p.solid_tone) {  // hatched: long lines near full speed
+        t += 1.1 * area / pitch / in_.costs.motion().speed_down_mm_s;
+        continue;
+      }
       const double r = connect_spacing_mm(tone(v), pen_, p);
       if (area == 0 || !std::isfinite(r)) continue;
       const double density = pattern_density(r / cell);

@@ -137,7 +137,7 @@ TEST_CASE("stipple --connect: far fewer pen lifts than the dot stipple, within t
   const std::string page = " --profile grbl-servo --page 297x210mm --margin 10";
   for (const char* time : {"15min", "1h"}) {
     const double budget = std::string(time) == "15min" ? 900 : 3600;
-    const auto dots = run_json("stipple " + img + " -o " + t.file("d.svg") + page + " --time " + time);
+    const auto dots = run_json("stipple " + img + " -o " + t.file("d.svg") + page + " --time " + time + " --measure");
     const auto line = run_json("stipple " + img + " --connect -o " + t.file("c.svg") + page + " --time " + time +
                                " --measure");
     const double planned = line["plan"]["total"]["seconds"].get<double>();
@@ -148,9 +148,11 @@ TEST_CASE("stipple --connect: far fewer pen lifts than the dot stipple, within t
     CHECK(planned <= budget);
     if (!line["budget"]["finest"].get<bool>()) CHECK(planned >= 0.8 * budget);
     CHECK(lifts < 0.2 * dot_lifts);
-    // Continuous ink buys more tone per hour than dots, and a truer picture.
-    CHECK(line["budget"]["ink_reached"].get<double>() > dots["budget"]["ink_reached"].get<double>());
-    CHECK(line["tone_r_view"].get<double>() >= 0.8);
+    // The hour spent on a line rather than on a few thousand filled discs: a truer
+    // picture seen from arm's length (coffee at 1 h: SSIM 0.78 against 0.38).
+    INFO("SSIM at 1 mm " << line["ssim_view"] << " vs dots " << dots["ssim_view"]);
+    CHECK(line["ssim_view"].get<double>() > dots["ssim_view"].get<double>() + 0.2);
+    CHECK(line["tone_r_view"].get<double>() >= 0.9);
   }
   // With the time for the whole tone, the line lays it: blurred at 1 mm, the drawing's
   // mean grey within 0.06 of the photo's, and the tone error small.

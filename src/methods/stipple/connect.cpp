@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "methods/hatch/hatch_lines.hpp"
 #include "plan/tour.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
@@ -17,6 +18,8 @@ void ConnectParams::validate() const {
   require_range("--lift-length", lift_length, 1, 1000);
   require_range("--lift-tone", lift_tone, 0, 1);
   require_range("connect tour seconds", tour_seconds_cap, 0, 3600);
+  require_range("connect solid tone", solid_tone, 0.5, 2);
+  require_range("connect solid opening", solid_open, 0, 100);
 }
 
 double connect_spacing_mm(double u, double pen_mm, const ConnectParams& p) {
@@ -105,6 +108,46 @@ bool lifted(const StippleCanvas& c, const pds::RadiusTable& radius, double wides
 }
 }  // namespace
 
+double connect_solid_pitch_mm(double pen_mm, double fade) { return std::max(0.9 * pen_mm, pen_mm / std::max(fade, 1e-3)); }
+
+namespace {
+// Cells of `in` whose (2h+1)^2 square around them lies wholly inside (erode) or touches
+// an inside cell (dilate), by 2-D prefix sums. O(cells).
+std::vector<uint8_t> square_filter(const std::vector<uint8_t>& in, int w, int h, int half, bool erode) {
+  std::vector<uint32_t> sum(static_cast<size_t>(w + 1) * static_cast<size_t>(h + 1), 0);
+  const size_t W = static_cast<size_t>(w) + 1;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      sum[(y + 1) * W + x + 1] = sum[y * W + x + 1] + sum[(y + 1) * W + x] - sum[y * W + x] +
+                                 (in[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] ? 1u : 0u);
+  std::vector<uint8_t> out(in.size(), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int x0 = std::max(0, x - half), x1 = std::min(w, x + half + 1), y0 = std::max(0, y - half),
+                y1 = std::min(h, y + half + 1);
+      const uint32_t n = sum[y1 * W + x1] - sum[y0 * W + x1] - sum[y1 * W + x0] + sum[y0 * W + x0];
+      // Off the grid counts as outside when eroding: a field's edge at the border stays.
+      const uint32_t full = static_cast<uint32_t>((x1 - x0) * (y1 - y0));
+      out[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] = erode ? n == full : n > 0;
+    }
+  return out;
+}
+}  // namespace
+
+std::vector<uint8_t> connect_solid_cells(const StippleCanvas& c, const ConnectParams& p) {
+  require_one_pass(c);
+  const int w = c.grid.image.width, h = c.grid.image.height;
+  const auto& plane = c.planes[c.passes[0].plane];
+  std::vector<uint8_t> solid(plane.size(), 0);
+  bool any = false;
+  for (size_t i = 0; i < plane.size(); ++i)
+    if (p.fade * pass_tone(c.passes[0].ink, plane[i]) >= p.solid_tone) solid[i] = 1, any = true;
+  if (!any) return solid;
+  const int half = static_cast<int>(std::lround(p.solid_open / c.grid.cell_mm));
+  if (half <= 0) return solid;
+  return square_filter(square_filter(solid, w, h, half, true), w, h, half, false);
+}
+
 bool connect_link_lifted(const StippleCanvas& c, const pds::RadiusTable& radius, const ConnectParams& p, Vec2 a,
                          Vec2 b) {
   require_one_pass(c);
@@ -114,7 +157,12 @@ bool connect_link_lifted(const StippleCanvas& c, const pds::RadiusTable& radius,
 Drawing connect_on_page(const StippleCanvas& c, const ConnectParams& p, ConnectStats* stats) {
   const pds::RadiusTable radius = connect_radii(c, p);
   const int w = c.grid.image.width, h = c.grid.image.height;
-  const auto& plane = c.planes[c.passes[0].plane];
+  // Solid fields are hatched: their cells get no points (as white paper would).
+  const std::vector<uint8_t> solid = connect_solid_cells(c, p);
+  std::vector<uint8_t> plane = c.planes[c.passes[0].plane];
+  size_t solid_cells = 0;
+  for (size_t i = 0; i < plane.size(); ++i)
+    if (solid[i]) plane[i] = 255, ++solid_cells;
   Rng rng(p.seed);
   const auto order = c.method == StippleMethod::Random ? pds::random_order(plane.size(), rng)
                                                        : pds::grayscale_order(plane, rng);
@@ -136,6 +184,22 @@ Drawing connect_on_page(const StippleCanvas& c, const ConnectParams& p, ConnectS
   layer.pen.width_mm = c.pen_mm;
   ConnectStats st;
   st.points = pos.size();
+  st.solid_cells = solid_cells;
+  if (solid_cells > 0) {
+    hatch::Mask m{w, h, solid};
+    hatch::LineSet set;
+    set.angle_deg = 45;
+    set.spacing = connect_solid_pitch_mm(c.pen_mm, p.fade) / c.grid.cell_mm;
+    set.link = 2.0 / c.grid.cell_mm;
+    for (const auto& stroke : hatch::hatch_mask(m, set)) {
+      Polyline pl;
+      for (const Vec2& q : stroke) pl.pts.push_back(c.grid.to_page(q.x, q.y));
+      for (size_t i = 1; i < pl.pts.size(); ++i)
+        st.hatch_mm += std::hypot(pl.pts[i].x - pl.pts[i - 1].x, pl.pts[i].y - pl.pts[i - 1].y);
+      if (pl.pts.size() >= 2) layer.lines.push_back(std::move(pl)), ++st.lines;
+    }
+    st.length_mm += st.hatch_mm;
+  }
   if (!pos.empty()) {
     plan::TourOptions to;
     to.seconds_cap = p.tour_seconds_cap;

@@ -12,6 +12,13 @@
 // reproduction curve from a pilot drawing (stipple/tone_law.hpp's CoverageCurve, fitted
 // to measured_line_coverage), as the dot stipple's are.
 //
+// Solid fields. Where the tone asks for solid ink (faded tone >= solid_tone over a field at
+// least 2 x solid_open wide), a path is the slowest way to lay it (links of a tenth of a
+// millimetre, grbl slowing at every corner) and never quite closes its gaps, which SSIM
+// sees in a black field's mean: such fields are hatched instead, parallel lines a pen
+// apart linked into zigzags (methods/hatch/hatch_lines.hpp), and their cells get no
+// points.
+//
 // Lifts. A link is not drawn (the pen lifts) when it is longer than `lift_length` local
 // spacings (the larger of its ends'), or when the mean tone of the ground it crosses,
 // sampled every half cell, is below `lift_tone` x the mean tone of its two ends: its
@@ -27,9 +34,11 @@
 namespace stipplot {
 
 // Line length per unit area x spacing of a relaxed maximal Poisson disk pattern joined by
-// the planner's tour (kappa lambda above), measured on uniform greys (test "a connected
-// uniform grey lays ..."; bench_connect prints c = L / sqrt(N A) = lambda sqrt(kappa)).
-inline constexpr double kConnectInk = 0.76;
+// the planner's tour (kappa lambda above), measured on a uniform grey of 96k points:
+// 0.80, and the path's constant c = L / sqrt(N A) = lambda sqrt(kappa) = 1.00, near a
+// hexagonal lattice's 1.07 (bench_connect BM_ConnectUniform; the test "a connected
+// uniform grey lays ..." checks it on small fields).
+inline constexpr double kConnectInk = 0.80;
 // At full tone the path lays (1 + kConnectSolid) x the ink of its coverage: the gaps its
 // loops leave between neighbouring lines close (the fitted curve asks for at most 1).
 inline constexpr double kConnectSolid = 0.6;
@@ -41,6 +50,8 @@ struct ConnectParams {
   int relax = 6;               // Lloyd iterations of the points before the tour
   double lift_length = 3;      // lift links longer than this many local spacings
   double lift_tone = 0.5;      // lift links over ground lighter than this x their ends' tone
+  double solid_tone = 0.9;     // faded tones at or above this are hatched solid (> 1: never)
+  double solid_open = 0.5;     // mm: fields narrower than twice this stay points (a morphological opening)
   double tour_seconds_cap = 30;  // wall-clock cap of the tour's improvement (work-bounded below it)
   uint64_t seed = 1;
   void validate() const;       // UserError naming the parameter
@@ -61,7 +72,14 @@ struct ConnectStats {
   size_t lines = 0;    // polylines
   size_t touches = 0;  // single points
   double length_mm = 0;  // pen-down length of the lines
+  size_t solid_cells = 0;  // cells hatched solid
+  double hatch_mm = 0;     // their hatch lines' length (in length_mm too)
 };
+
+// The cells hatched solid (nonzero), row-major over the canvas's grid. O(cells).
+std::vector<uint8_t> connect_solid_cells(const StippleCanvas& c, const ConnectParams& p);
+// The hatch pitch of the solid fields at `fade`, mm.
+double connect_solid_pitch_mm(double pen_mm, double fade);
 
 // Would the link a-b (page mm) be lifted: the rule above, on the canvas's single pass.
 // O(link length / cell).
