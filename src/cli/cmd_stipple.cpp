@@ -467,7 +467,12 @@ void register_stipple(CLI::App& app) {
       "color and cmyk take --pens FILE.toml (your pens for their inks) and --max-pens N.\n"
       "Laws: tone (default: dots sized and spaced on the page so the ink lays the photo's tones, as\n"
       "dense as --time allows), linear (the paper's r = a + b d/255; -a/-b in mm or input px, 3px).\n"
+      "Connected (TSP art): the points joined by one line, pen down, lifted only over light ground;\n"
+      "by default the budget draws connected when --time is short for the photo (under twice what the\n"
+      "line's whole tone needs), dots otherwise; --connect or --dots chooses.\n"
       "Example: stipplot stipple photo.jpg -o photo.svg --preview photo.png --time 45min\n"
+      "         stipplot stipple photo.jpg -o photo.svg --connect --preview photo.png\n"
+      "         stipplot stipple photo.jpg -o photo.svg --dots --time 4h\n"
       "         stipplot stipple photo.jpg -o photo.svg --law linear -a 3px -b 15px");
   CLI::App* cmd = m->cli();
   const char* g = "Stippling";

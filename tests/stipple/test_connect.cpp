@@ -137,7 +137,7 @@ TEST_CASE("stipple --connect: far fewer pen lifts than the dot stipple, within t
   const std::string page = " --profile grbl-servo --page 297x210mm --margin 10";
   for (const char* time : {"15min", "1h"}) {
     const double budget = std::string(time) == "15min" ? 900 : 3600;
-    const auto dots = run_json("stipple " + img + " -o " + t.file("d.svg") + page + " --time " + time + " --measure");
+    const auto dots = run_json("stipple " + img + " --dots -o " + t.file("d.svg") + page + " --time " + time + " --measure");
     const auto line = run_json("stipple " + img + " --connect -o " + t.file("c.svg") + page + " --time " + time +
                                " --measure");
     const double planned = line["plan"]["total"]["seconds"].get<double>();
@@ -154,6 +154,14 @@ TEST_CASE("stipple --connect: far fewer pen lifts than the dot stipple, within t
     CHECK(line["ssim_view"].get<double>() > dots["ssim_view"].get<double>() + 0.2);
     CHECK(line["tone_r_view"].get<double>() >= 0.9);
   }
+  // The default at 1 h on coffee is the line (its whole tone needs more than half an hour
+  // more), at 4 h the dots; --law linear is always the paper's dots.
+  const auto auto1 = run_json("stipple " + img + " -o " + t.file("a.svg") + page + " --time 1h");
+  CHECK(auto1["style"] == "connect");
+  CHECK(auto1["style_choice"]["connect_full_tone_s"].get<double>() > 1800);
+  const auto auto4 = run_json("stipple " + img + " -o " + t.file("a.svg") + page + " --time 4h");
+  CHECK(auto4["style"] == "dots");
+  CHECK(run_json("stipple " + img + " --law linear -o " + t.file("a.svg") + page)["style"] == "dots");
   // With the time for the whole tone, the line lays it: blurred at 1 mm, the drawing's
   // mean grey within 0.06 of the photo's, and the tone error small.
   const auto full = run_json("stipple " + img + " --connect -o " + t.file("f.svg") + page + " --time 4h --measure");
@@ -175,7 +183,9 @@ TEST_CASE("stipple --connect: bad parameters get one line and exit 1", "[stipple
       {"--connect --max-dot 2mm", "--max-dot"},
       {"--connect --lift-length 0.5", "--lift-length"},
       {"--connect --lift-tone 1.5", "--lift-tone"},
-      {"--lift-tone 0.3", "--connect"},
+      {"--dots --lift-tone 0.3", "--connect"},
+      {"--connect --dots", "give one"},
+      {"-m binary --lift-length 4", "--connect"},
       {"--connect --dot-size 1mm", "--dot-size"},
   };
   for (const auto& [opts, word] : cases) {
