@@ -1,5 +1,6 @@
 // Connected stippling (stipple --connect, TSP art). Run: ./build/bench/bench_connect
-//  - BM_ConnectSearch: `stipplot stipple coffee.png --connect -o x.svg --time 1h` in process
+//  - BM_ConnectSearch: `stipplot stipple coffee.png --connect -o x.svg --page 297x210mm
+//    --margin 10 --time 1h` in process (the hour lays 60 % of the tone: a real search)
 //    (the statistics, the pilot that fits the tone curve and the time, the search's runs,
 //    the plan and the SVG); BM_ConnectOneRun: the same command drawing once at the knob
 //    the search chose (--knob). The target: the search within 3x one run.
@@ -56,7 +57,8 @@ std::string run_command(const std::vector<std::string>& args) {
 
 std::vector<std::string> command() {
   const std::string svg = (fs::temp_directory_path() / "stipplot_bench_connect.svg").string();
-  return {"stipple", example("coffee.png"), "--connect", "-o", svg, "--time", "1h", "--json"};
+  return {"stipple", example("coffee.png"), "--connect", "-o", svg, "--page", "297x210mm", "--margin", "10",
+          "--time", "1h", "--json"};
 }
 
 void BM_ConnectSearch(benchmark::State& state) {
