@@ -399,7 +399,7 @@ class ConnectDraft {
     c.precision(1);
     c << st.points << " points joined in " << st.lines << " lines of " << st.length_mm / 1000 << " m";
     if (st.touches) c << " and " << st.touches << " touches";
-    if (st.hatch_mm > 0) c << ", " << st.hatch_mm / 1000 << " m of it hatching solid fields";
+    if (st.hatch_mm >= 50) c << ", " << st.hatch_mm / 1000 << " m of it hatching solid fields";
     c << " (" << to_string(a_.m) << ", connected, " << pixel_size(in_.image) << ")";
     r.counts = c.str();
     return r;
