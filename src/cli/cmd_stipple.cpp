@@ -397,7 +397,8 @@ class ConnectDraft {
     std::ostringstream c;
     c.setf(std::ios::fixed);
     c.precision(1);
-    c << st.points << " points joined in " << st.lines << " lines of " << st.length_mm / 1000 << " m";
+    c << st.points << " points, drawn as " << st.lines << (st.lines == 1 ? " line" : " lines") << " of "
+      << st.length_mm / 1000 << " m";
     if (st.touches) c << " and " << st.touches << " touches";
     if (st.hatch_mm >= 50) c << ", " << st.hatch_mm / 1000 << " m of it hatching solid fields";
     c << " (" << to_string(a_.m) << ", connected, " << pixel_size(in_.image) << ")";
