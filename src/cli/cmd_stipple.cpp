@@ -7,6 +7,7 @@
 #include "cli/commands.hpp"
 #include "cli/method_command.hpp"
 #include "cli/pen_choice.hpp"
+#include "budget/density_search.hpp"
 #include "budget/mark_costs.hpp"
 #include "methods/palette.hpp"
 #include "methods/stipple/connect.hpp"
@@ -68,13 +69,16 @@ bool connectable(const StippleArgs& a) {
          a.page.law == StippleLaw::Tone && a.max_dot.empty() && a.pens_file.empty();
 }
 
-// With neither --connect nor --dots the budget chooses: the connected drawing (TSP art)
-// when the budget is under this many times the time its whole tone needs, else the dot
-// stipple, whose fine dots then lay the tone and the detail better (README: on the shared
-// photos at 1 h the line reads far better, SSIM at 1 mm 0.79 / 0.66 against 0.38 / 0.28
-// for coffee and rocket; at 4 h the dots do on coffee and horse, 0.95 / 1.00 against
-// 0.89 / 0.99).
+// With neither --connect nor --dots the budget chooses the connected drawing (TSP art)
+// when the budget is under kConnectBelow times the time the line's whole tone needs, or
+// when the dot stipple would need dots wider than kBlobPens pen widths at this budget (the
+// predicted knob's largest dot: filled discs that keep the tone and lose the picture);
+// else the dots, whose fine dots then lay the tone and the detail better. On the shared
+// photos (README, SSIM at 1 mm): at 1 h the line for coffee, horse and rocket (0.79 / 0.99 /
+// 0.66 against the dots' 0.38 / 0.96 / 0.28: 4.6-4.75 mm discs); at 4 h the dots for coffee
+// and horse (0.95 / 1.00 against 0.89 / 0.99: 2.0 and 1.5 mm), the line for rocket (0.92 both).
 constexpr double kConnectBelow = 2;
+constexpr double kBlobPens = 10;
 
 void resolve(StippleArgs& a) {
   a.m = parse_stipple_method(a.method);
@@ -118,11 +122,14 @@ void resolve(StippleArgs& a) {
 }
 
 // --json "style_choice": why the budget drew dots or a line.
-nlohmann::json style_choice(bool connect, double connect_full_s, double below) {
+nlohmann::json style_choice(bool connect, double connect_full_s, double dots_max_mm, double pen_mm) {
   return {{"connect", connect},
           {"connect_full_tone_s", connect_full_s},
-          {"rule", "connect when --time < " + std::to_string(static_cast<int>(below)) +
-                       " x connect_full_tone_s (give --connect or --dots to choose)"}};
+          {"dots_max_dot_mm", dots_max_mm},
+          {"rule", "connect when --time < " + std::to_string(static_cast<int>(kConnectBelow)) +
+                       " x connect_full_tone_s or dots_max_dot_mm > " + std::to_string(static_cast<int>(kBlobPens)) +
+                       " pen widths (" + std::to_string(kBlobPens * pen_mm).substr(0, 4) +
+                       " mm); --connect or --dots chooses"}};
 }
 
 // The knob: for the tone law, k in [0, 1/2] lays the share 2k of the tone with the
@@ -284,7 +291,13 @@ class StippleDraft {
   }
 
   // The budget chose the dots over the connected drawing (see kConnectBelow).
-  void note_choice(double connect_full_s, double below) { choice_ = style_choice(false, connect_full_s, below); }
+  void note_choice(nlohmann::json choice) { choice_ = std::move(choice); }
+  // The largest dot of the drawing the search would start from at `budget_s` (the
+  // prediction before any pilot): how coarse the budget makes the dots. O(100 predictions).
+  double predicted_max_dot_mm(double budget_s) const {
+    const double k = budget::knob_for(budget::SearchOptions{}.target * budget_s, 1.0, [this](double kk) { return predict(kk); });
+    return law_at(k).max_dot_mm;
+  }
 
   // Draw with these pens (the layers' inks mapped to the nearest, see map_layers_to_pens).
   void use_pens(std::vector<Pen> pens) { pens_ = std::move(pens); }
@@ -408,7 +421,7 @@ class ConnectDraft {
 
   double tone_share(double k) const { return std::clamp(k, 0.0, 1.0); }
   // The budget chose the connected drawing (see kConnectBelow).
-  void note_choice(double full_s, double below) { choice_ = style_choice(true, full_s, below); }
+  void note_choice(nlohmann::json choice) { choice_ = std::move(choice); }
   double ink_needed() const { return ink_needed_; }
 
  private:
@@ -470,7 +483,8 @@ void register_stipple(CLI::App& app) {
       "dense as --time allows), linear (the paper's r = a + b d/255; -a/-b in mm or input px, 3px).\n"
       "Connected (TSP art): the points joined by one line, pen down, lifted only over light ground;\n"
       "by default the budget draws connected when --time is short for the photo (under twice what the\n"
-      "line's whole tone needs), dots otherwise; --connect or --dots chooses.\n"
+      "line's whole tone needs, or the dots would be wider than 10 pen widths), dots otherwise;\n"
+      "--connect or --dots chooses.\n"
       "Example: stipplot stipple photo.jpg -o photo.svg --preview photo.png --time 45min\n"
       "         stipplot stipple photo.jpg -o photo.svg --connect --preview photo.png\n"
       "         stipplot stipple photo.jpg -o photo.svg --dots --time 4h\n"
@@ -506,7 +520,8 @@ void register_stipple(CLI::App& app) {
   const char* gc = "Connected (TSP art)";
   cmd->add_flag("--dots", args->dots,
                 "Draw the dot stipple whatever --time (default for gray/random/negative with --law tone: the "
-                "connected drawing when --time is under twice what its whole tone needs, else the dots)")
+                "connected drawing when --time is under twice what its whole tone needs or the dots would be "
+                "wider than 10 pen widths, else the dots)")
       ->group(gc);
   cmd->add_flag("--connect", args->connect,
                 "Draw connected whatever --time: the points joined by one tour with the pen down (TSP art, Kaplan & Bosch 2005), lifting only "
@@ -530,18 +545,21 @@ void register_stipple(CLI::App& app) {
       },
             [args](const MethodInput& in) {
               std::shared_ptr<ConnectDraft> c;
-              double full_tone_s = 0;
+              std::shared_ptr<StippleDraft> d;
               bool connect = args->connect;
+              nlohmann::json why;
               if (!args->connect && !args->dots && connectable(*args) && in.budget_s > 0 &&
                   !(in.placement.dot_size.value > 0)) {
                 c = std::make_shared<ConnectDraft>(*args, in);
-                full_tone_s = c->predict(1);
-                connect = in.budget_s < kConnectBelow * full_tone_s;
+                d = std::make_shared<StippleDraft>(*args, in);
+                const double full_tone_s = c->predict(1), max_dot = d->predicted_max_dot_mm(in.budget_s);
+                const double pen = in.placement.pen_width_mm;
+                connect = in.budget_s < kConnectBelow * full_tone_s || max_dot > kBlobPens * pen;
+                why = style_choice(connect, full_tone_s, max_dot, pen);
               }
-              const bool chosen = !args->connect && !args->dots && full_tone_s > 0;
               if (connect) {
                 if (!c) c = std::make_shared<ConnectDraft>(*args, in);
-                if (chosen) c->note_choice(full_tone_s, kConnectBelow);
+                if (!why.is_null()) c->note_choice(why);
                 MethodDraft draft;
                 draft.predict = [c](double k) { return c->predict(k); };
                 draft.draw = [c](double k) { return c->draw(k); };
@@ -550,8 +568,8 @@ void register_stipple(CLI::App& app) {
                 draft.ink_needed = c->ink_needed();
                 return draft;
               }
-              auto d = std::make_shared<StippleDraft>(*args, in);
-              if (chosen) d->note_choice(full_tone_s, kConnectBelow);
+              if (!d) d = std::make_shared<StippleDraft>(*args, in);
+              if (!why.is_null()) d->note_choice(why);
               auto choice = std::make_shared<PenChoice>();
               if (args->max_pens > 0) *choice = choose_stipple_pens(*args, in);
               d->use_pens(args->max_pens > 0 ? choice->pens : args->palette);

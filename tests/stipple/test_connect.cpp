@@ -155,12 +155,18 @@ TEST_CASE("stipple --connect: far fewer pen lifts than the dot stipple, within t
     CHECK(line["tone_r_view"].get<double>() >= 0.9);
   }
   // The default at 1 h on coffee is the line (its whole tone needs more than half an hour
-  // more), at 4 h the dots; --law linear is always the paper's dots.
+  // more, and the hour's dots would be discs over 3 mm), at 4 h the dots (2 mm, fine enough);
+  // --law linear is always the paper's dots.
   const auto auto1 = run_json("stipple " + img + " -o " + t.file("a.svg") + page + " --time 1h");
   CHECK(auto1["style"] == "connect");
   CHECK(auto1["style_choice"]["connect_full_tone_s"].get<double>() > 1800);
+  CHECK(auto1["style_choice"]["dots_max_dot_mm"].get<double>() > 3);
   const auto auto4 = run_json("stipple " + img + " -o " + t.file("a.svg") + page + " --time 4h");
   CHECK(auto4["style"] == "dots");
+  // The prediction the choice uses is the dots the search then draws (within 10 %).
+  const auto dots4 = run_json("stipple " + img + " --dots -o " + t.file("a.svg") + page + " --time 4h");
+  CHECK(auto4["style_choice"]["dots_max_dot_mm"].get<double>() ==
+        Approx(dots4["max_dot_mm"].get<double>()).epsilon(0.1));
   CHECK(run_json("stipple " + img + " --law linear -o " + t.file("a.svg") + page)["style"] == "dots");
   // With the time for the whole tone, the line lays it: blurred at 1 mm, the drawing's
   // mean grey within 0.06 of the photo's, and the tone error small.
