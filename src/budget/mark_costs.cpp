@@ -1,6 +1,8 @@
 #include "budget/mark_costs.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "drivers/motion/time_model.hpp"
 #include "plan/strokes.hpp"
@@ -50,6 +52,32 @@ double MarkCosts::zigzag_s(double mm, int passes, double spacing_mm) const {
     pts.push_back({forward ? mm : 0, y});
   }
   return motion::polyline_seconds(pts, m_.speed_down_mm_s, m_);
+}
+
+double MarkCosts::path_link_s(double link_mm, double turn_degrees) const {
+  if (!(link_mm > 0)) return 0;
+  const std::pair<long, long> key{std::lround(link_mm * 100), std::lround(turn_degrees)};
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (auto it = link_.find(key); it != link_.end()) return it->second;
+  }
+  // 64 links; the first and last 8 (the path's start and stop) are left out.
+  constexpr int kLinks = 64, kEdge = 8;
+  const double len = std::max(key.first, 1L) / 100.0, turn = key.second * M_PI / 180;
+  std::vector<Vec2> pts{{0, 0}};
+  double heading = 0;
+  for (int i = 0; i < kLinks; ++i) {
+    heading += (i % 2 ? turn : -turn);
+    pts.push_back({pts.back().x + len * std::cos(heading), pts.back().y + len * std::sin(heading)});
+  }
+  const std::vector<Vec2> ends(pts.begin(), pts.begin() + kEdge + 1);
+  const std::vector<Vec2> tail(pts.end() - kEdge - 1, pts.end());
+  const double all = motion::polyline_seconds(pts, m_.speed_down_mm_s, m_);
+  const double edges = motion::polyline_seconds(ends, m_.speed_down_mm_s, m_) + motion::polyline_seconds(tail, m_.speed_down_mm_s, m_);
+  const double t = std::max(all - edges, 0.0) / (kLinks - 2 * kEdge) * (link_mm / len);
+  std::lock_guard<std::mutex> lock(mu_);
+  link_[key] = t;
+  return t;
 }
 
 double quick_estimate_seconds(const Drawing& d, const MotionParams& motion, PlanOptions po) {

@@ -419,7 +419,7 @@ void MethodCommand::run() const {
 
   const auto t1 = std::chrono::steady_clock::now();
   // The draft may keep references to the input: it lives as long as the draft.
-  const MethodInput input{image, placement, costs, !a.report.json && !a.report.quiet};
+  const MethodInput input{image, placement, costs, !a.report.json && !a.report.quiet, budget_s};
   const MethodDraft draft = prepare_(input);
   budget::SearchOutcome so;
   MethodResult r = draw_within_budget(draft, a.knob, budget_s, prof, po, so);

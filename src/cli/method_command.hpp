@@ -36,6 +36,7 @@ struct MethodInput {
   const Placement& placement;
   const budget::MarkCosts& costs;  // what marks cost on the chosen profile
   bool show_progress = false;      // a progress bar is welcome (no --json, no --quiet)
+  double budget_s = 0;             // the --time budget in seconds (0: not known, a search's small copy)
 };
 
 // What a method hands to the shared output path.

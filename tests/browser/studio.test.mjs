@@ -58,7 +58,8 @@ try {
   await page.setInputFiles('#file', photoPath);
   await page.waitForFunction(() => document.body.dataset.previewGen && document.body.dataset.previewDraft === '0', null, { timeout: 60_000 });
   const first = { src: await page.getAttribute('#preview', 'src'), marks: await page.textContent('#s-marks') };
-  check(Number(first.marks.replace(/,/g, '')) > 100, `the preview counts its marks (${first.marks})`);
+  // stipple at its defaults on this photo is one connected line in a few pieces (TSP art): its marks are those lines.
+  check(Number(first.marks.replace(/,/g, '')) >= 10, `the preview counts its marks (${first.marks})`);
   check((await page.textContent('#s-time')) !== '–', 'the preview estimates the plot time');
   check(/^0\.\d+$/.test(await page.textContent('#s-fid')), 'the preview reports its fidelity');
   if (shots) { mkdirSync(shots, { recursive: true }); await page.screenshot({ path: join(shots, 'studio-preview.png') }); }

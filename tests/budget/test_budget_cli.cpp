@@ -59,7 +59,7 @@ TEST_CASE("the same page and pen give the same marks whatever the input's resolu
   const std::string img = test::example("coffee.png");
   const std::string quarter = scaled_copy(t, img, 0.25, "q.png"), four = scaled_copy(t, img, 4, "x4.png");
   const std::string opts = " -o " + t.file("r.svg") + " --time 30min";
-  for (const char* method : {"stipple", "sketch", "pointillism", "tree"}) {
+  for (const char* method : {"stipple --dots", "sketch", "pointillism", "tree"}) {
     const auto base = run_json(std::string(method) + " " + img + opts);
     const double n = base["primitives"].get<double>();
     for (const std::string& other : {quarter, four}) {
@@ -67,6 +67,14 @@ TEST_CASE("the same page and pen give the same marks whatever the input's resolu
       INFO(method << " " << other << ": " << j["primitives"] << " marks against " << n);
       CHECK(std::abs(j["primitives"].get<double>() - n) <= 0.05 * n);
     }
+  }
+  // A connected drawing's marks are a few long lines: its points are what must agree.
+  const auto base = run_json("stipple --connect " + img + opts);
+  const double n = base["connect"]["points"].get<double>();
+  for (const std::string& other : {quarter, four}) {
+    const auto j = run_json("stipple --connect " + other + opts);
+    INFO("stipple --connect " << other << ": " << j["connect"]["points"] << " points against " << n);
+    CHECK(std::abs(j["connect"]["points"].get<double>() - n) <= 0.05 * n);
   }
 }
 

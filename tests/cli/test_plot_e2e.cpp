@@ -96,7 +96,7 @@ TEST_CASE("the plot's ETA at 25, 50 and 75 % is within 5 % of the time really le
   // stipple's dots on the HPGL plotter (2 min; an HPGL instruction is a whole stroke, the
   // finest a plotter's buffer says it has done, so strokes would blur the measure).
   for (const Case& c : {Case{"grbl-servo", "gcode", "export examples/foreign.svg", "2"},
-                        Case{"hp7475a-a4", "hpgl", "stipple examples/coffee.png --time 2min", "6"}}) {
+                        Case{"hp7475a-a4", "hpgl", "stipple examples/coffee.png --dots --time 2min", "6"}}) {
     test::TempDir t;
     const std::string job = t.file(std::string("job.") + c.ext);
     std::string make = c.make;

@@ -101,7 +101,7 @@ struct Run {
 // The photo stippled at three times the budget its default run names for the full tone
 // (the order of the pen's path does not change the tone: no 2-opt).
 Run stipple_for_tone(const test::TempDir& t, const std::string& image, const std::string& method) {
-  const std::string base = "stipple " + image + " --method " + method + " --json -o " + t.file("s.svg") +
+  const std::string base = "stipple " + image + " --dots --method " + method + " --json -o " + t.file("s.svg") +
                            " --preview-dpi 100 --optimize-seconds 0 --preview " + t.file("s.png");
   auto r = test::run_cli(base);
   REQUIRE(r.exit_code == 0);

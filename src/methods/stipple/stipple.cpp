@@ -397,8 +397,6 @@ std::vector<double> footprint_diameters(const StippleCanvas& c, size_t pass, con
 }
 }  // namespace
 
-namespace {
-
 // Lloyd relaxation of one pass's dots (Secord's weighted Voronoi stippling): each dot
 // moves to the centroid of the grid cells nearest to it, weighted by the density the
 // law asks for there, 1/r^4 (a centroidal pattern's density grows as the square root
@@ -407,8 +405,8 @@ namespace {
 // O(cells x overlap); cells that get no dots (infinite r) weigh nothing, so dots never
 // drift into paper left blank. It evens the pattern's spacing: the blurred drawing is
 // then far less grainy than the sampled pattern, whose dots fall at random within it.
-void relax(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, const pds::RadiusTable& radius, int w, int h,
-           int iterations) {
+void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, const pds::RadiusTable& radius, int w,
+                  int h, int iterations) {
   const size_t n = static_cast<size_t>(w) * static_cast<size_t>(h);
   std::array<double, 256> weight{};
   for (int v = 0; v < 256; ++v)
@@ -449,8 +447,6 @@ void relax(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, const pds:
   }
 }
 
-}  // namespace
-
 Drawing stipple_on_page(const StippleCanvas& c, const PageStipple& law, double mm_per_px, uint64_t seed,
                         const std::function<void(double)>& progress) {
   const int w = c.grid.image.width, h = c.grid.image.height;
@@ -472,7 +468,7 @@ Drawing stipple_on_page(const StippleCanvas& c, const PageStipple& law, double m
   const bool tone = law.law == StippleLaw::Tone;
   // Colour merges its channels' dots by cell: they must stay on their cells.
   if (tone && c.method != StippleMethod::Color)
-    for (size_t i = 0; i < dots.size(); ++i) relax(pos[i], c.planes[c.passes[i].plane], tables[i], w, h, law.relax);
+    for (size_t i = 0; i < dots.size(); ++i) relax_points(pos[i], c.planes[c.passes[i].plane], tables[i], w, h, law.relax);
   std::vector<std::vector<double>> dia(dots.size());
   for (size_t i = 0; i < dots.size(); ++i) {
     const auto& plane = c.planes[c.passes[i].plane];

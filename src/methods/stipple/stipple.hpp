@@ -143,6 +143,15 @@ LevelDots level_dots(const StippleCanvas& c, size_t pass, const PageStipple& law
 Drawing stipple_on_page(const StippleCanvas& canvas, const PageStipple& law, double mm_per_px, uint64_t seed,
                         const std::function<void(double)>& progress = {});
 
+// Lloyd relaxation of points in cell coordinates over a plane of the grid (Secord's
+// weighted Voronoi stippling): each point moves to the centroid of the cells nearest to
+// it, weighted by the density the radius table asks for there (1/r^4, so a centroidal
+// pattern keeps the sampled density 1/r^2), `iterations` times; a point claims the cells
+// within 1.5 of its own spacing, and cells of levels that get no points weigh nothing.
+// O(iterations x cells x overlap).
+void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, const pds::RadiusTable& radius, int w,
+                  int h, int iterations);
+
 // What a drawing of the canvas (one layer a pass, as stipple_on_page makes) covers: per
 // pass and grey level of its plane, the share of those cells its dots' discs cover,
 // rasterised at half a cell; and how many cells each level has. O(cells + dots D^2).

@@ -1,0 +1,284 @@
+#include "methods/stipple/connect.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "methods/hatch/hatch_lines.hpp"
+#include "plan/tour.hpp"
+#include "util/error.hpp"
+#include "util/rng.hpp"
+
+namespace stipplot {
+
+void ConnectParams::validate() const {
+  require_range("connect fade", fade, 0, 1);
+  require_range("connect min coverage", min_coverage, 1e-4, 1);
+  if (relax < 0 || relax > 50) throw UserError("--relax must be an integer in [0, 50], got " + std::to_string(relax));
+  require_range("--lift-length", lift_length, 1, 1000);
+  require_range("--lift-tone", lift_tone, 0, 1);
+  require_range("connect tour seconds", tour_seconds_cap, 0, 3600);
+  require_range("connect solid tone", solid_tone, 0.5, 2);
+  require_range("connect solid opening", solid_open, 0, 100);
+}
+
+double connect_spacing_mm(double u, double pen_mm, const ConnectParams& p) {
+  double c = p.fade * std::clamp(u, 0.0, 1.0);
+  if (c < p.min_coverage) return std::numeric_limits<double>::infinity();
+  if (p.curve && !p.curve->empty()) c = apply_curve(*p.curve, c);
+  if (!(c > 0)) return std::numeric_limits<double>::infinity();
+  c = std::min(c, 1.0);
+  // The ink to lay: the coverage while the lines are apart, more toward full tone, where
+  // the path's loops leave gaps between neighbouring lines that only more line closes
+  // (SSIM sees the grain of a dark field that is not solid).
+  const double ink = c * (1 + kConnectSolid * c * c * c * c);
+  return std::max(kConnectInk * pen_mm / ink, 0.4 * pen_mm);
+}
+
+namespace {
+void require_one_pass(const StippleCanvas& c) {
+  if (c.passes.size() != 1 || c.passes[0].ink != StipplePass::Ink::Dark)
+    throw UserError(std::string("--connect draws one line with one pen: -m gray, random or negative, not -m ") +
+                    to_string(c.method));
+}
+
+// Tone (0..1 of the paper to cover, unfaded) of each level of the single pass.
+std::array<double, 256> level_tone(const StippleCanvas& c) {
+  std::array<double, 256> t{};
+  for (int v = 0; v < 256; ++v) t[static_cast<size_t>(v)] = pass_tone(c.passes[0].ink, v);
+  return t;
+}
+}  // namespace
+
+pds::RadiusTable connect_radii(const StippleCanvas& c, const ConnectParams& p) {
+  require_one_pass(c);
+  p.validate();
+  pds::RadiusTable t;
+  const double cell = c.grid.cell_mm;
+  for (int v = 0; v < 256; ++v) {
+    const double r = connect_spacing_mm(pass_tone(c.passes[0].ink, v), c.pen_mm, p) / cell;
+    t.r[v] = r;
+    t.r2[v] = r * r;
+  }
+  // Never shrinking toward lighter levels (the visiting order's direction).
+  for (int v = 1; v < 256; ++v) {
+    if (t.none(static_cast<uint8_t>(v)) || t.none(static_cast<uint8_t>(v - 1))) continue;
+    if (t.r[v] < t.r[v - 1]) t.r[v] = t.r[v - 1], t.r2[v] = t.r2[v - 1];
+  }
+  return t;
+}
+
+namespace {
+// The spacing in mm at a page point (the largest finite one where its level gets no points).
+double spacing_at(const StippleCanvas& c, const pds::RadiusTable& radius, double widest, Vec2 p) {
+  const int w = c.grid.image.width, h = c.grid.image.height;
+  const int x = std::clamp(static_cast<int>((p.x - c.grid.origin_mm.x) / c.grid.cell_mm), 0, w - 1);
+  const int y = std::clamp(static_cast<int>((p.y - c.grid.origin_mm.y) / c.grid.cell_mm), 0, h - 1);
+  const uint8_t v = c.planes[c.passes[0].plane][static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)];
+  return (radius.none(v) ? widest : radius.r[v]) * c.grid.cell_mm;
+}
+
+double tone_at(const StippleCanvas& c, const std::array<double, 256>& tone, Vec2 p) {
+  const int w = c.grid.image.width, h = c.grid.image.height;
+  const int x = std::clamp(static_cast<int>((p.x - c.grid.origin_mm.x) / c.grid.cell_mm), 0, w - 1);
+  const int y = std::clamp(static_cast<int>((p.y - c.grid.origin_mm.y) / c.grid.cell_mm), 0, h - 1);
+  return tone[c.planes[c.passes[0].plane][static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)]];
+}
+
+double widest_radius(const pds::RadiusTable& r) {
+  double m = 0;
+  for (int v = 0; v < 256; ++v)
+    if (!r.none(static_cast<uint8_t>(v))) m = std::max(m, r.r[v]);
+  return m;
+}
+
+bool lifted(const StippleCanvas& c, const pds::RadiusTable& radius, double widest, const std::array<double, 256>& tone,
+            const ConnectParams& p, Vec2 a, Vec2 b) {
+  const double len = std::hypot(b.x - a.x, b.y - a.y);
+  const double spacing = std::max(spacing_at(c, radius, widest, a), spacing_at(c, radius, widest, b));
+  if (len > p.lift_length * spacing) return true;
+  const double ends = 0.5 * (tone_at(c, tone, a) + tone_at(c, tone, b));
+  const int n = std::max(2, static_cast<int>(std::ceil(2 * len / c.grid.cell_mm)) + 1);
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    const double f = static_cast<double>(i) / (n - 1);
+    sum += tone_at(c, tone, {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y)});
+  }
+  return sum / n < p.lift_tone * ends;
+}
+}  // namespace
+
+double connect_solid_pitch_mm(double pen_mm, double fade) { return std::max(0.9 * pen_mm, pen_mm / std::max(fade, 1e-3)); }
+
+namespace {
+// Cells of `in` whose (2h+1)^2 square around them lies wholly inside (erode) or touches
+// an inside cell (dilate), by 2-D prefix sums. O(cells).
+std::vector<uint8_t> square_filter(const std::vector<uint8_t>& in, int w, int h, int half, bool erode) {
+  std::vector<uint32_t> sum(static_cast<size_t>(w + 1) * static_cast<size_t>(h + 1), 0);
+  const size_t W = static_cast<size_t>(w) + 1;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      sum[(y + 1) * W + x + 1] = sum[y * W + x + 1] + sum[(y + 1) * W + x] - sum[y * W + x] +
+                                 (in[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] ? 1u : 0u);
+  std::vector<uint8_t> out(in.size(), 0);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int x0 = std::max(0, x - half), x1 = std::min(w, x + half + 1), y0 = std::max(0, y - half),
+                y1 = std::min(h, y + half + 1);
+      const uint32_t n = sum[y1 * W + x1] - sum[y0 * W + x1] - sum[y1 * W + x0] + sum[y0 * W + x0];
+      // Off the grid counts as outside when eroding: a field's edge at the border stays.
+      const uint32_t full = static_cast<uint32_t>((x1 - x0) * (y1 - y0));
+      out[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] = erode ? n == full : n > 0;
+    }
+  return out;
+}
+}  // namespace
+
+std::vector<uint8_t> connect_solid_cells(const StippleCanvas& c, const ConnectParams& p) {
+  require_one_pass(c);
+  const int w = c.grid.image.width, h = c.grid.image.height;
+  const auto& plane = c.planes[c.passes[0].plane];
+  std::vector<uint8_t> solid(plane.size(), 0);
+  bool any = false;
+  for (size_t i = 0; i < plane.size(); ++i)
+    if (p.fade * pass_tone(c.passes[0].ink, plane[i]) >= p.solid_tone) solid[i] = 1, any = true;
+  if (!any) return solid;
+  const int half = static_cast<int>(std::lround(p.solid_open / c.grid.cell_mm));
+  if (half <= 0) return solid;
+  return square_filter(square_filter(solid, w, h, half, true), w, h, half, false);
+}
+
+bool connect_link_lifted(const StippleCanvas& c, const pds::RadiusTable& radius, const ConnectParams& p, Vec2 a,
+                         Vec2 b) {
+  require_one_pass(c);
+  return lifted(c, radius, widest_radius(radius), level_tone(c), p, a, b);
+}
+
+Drawing connect_on_page(const StippleCanvas& c, const ConnectParams& p, ConnectStats* stats) {
+  const pds::RadiusTable radius = connect_radii(c, p);
+  const int w = c.grid.image.width, h = c.grid.image.height;
+  // Solid fields are hatched: their cells get no points (as white paper would).
+  const std::vector<uint8_t> solid = connect_solid_cells(c, p);
+  std::vector<uint8_t> plane = c.planes[c.passes[0].plane];
+  size_t solid_cells = 0;
+  for (size_t i = 0; i < plane.size(); ++i)
+    if (solid[i]) plane[i] = 255, ++solid_cells;
+  Rng rng(p.seed);
+  const auto order = c.method == StippleMethod::Random ? pds::random_order(plane.size(), rng)
+                                                       : pds::grayscale_order(plane, rng);
+  const std::vector<uint32_t> dots = pds::sample(w, h, plane, radius, order);
+  // Continuous positions: jittered within the cell, relaxed toward weighted centroids.
+  Rng jitter(p.seed ^ 0x6a09e667f3bcc909ULL);
+  const uint32_t gw = static_cast<uint32_t>(w);
+  std::vector<Vec2> pos;
+  pos.reserve(dots.size());
+  for (uint32_t idx : dots) pos.push_back({idx % gw + jitter.uniform(), idx / gw + jitter.uniform()});
+  relax_points(pos, plane, radius, w, h, p.relax);
+  for (Vec2& q : pos)
+    q = c.grid.to_page(std::clamp(q.x, 0.0, static_cast<double>(w)), std::clamp(q.y, 0.0, static_cast<double>(h)));
+
+  Drawing d;
+  d.page = c.page;
+  Layer layer;
+  layer.pen = c.pens.at(0);
+  layer.pen.width_mm = c.pen_mm;
+  ConnectStats st;
+  st.points = pos.size();
+  st.solid_cells = solid_cells;
+  if (solid_cells > 0) {
+    hatch::Mask m{w, h, solid};
+    hatch::LineSet set;
+    set.angle_deg = 45;
+    set.spacing = connect_solid_pitch_mm(c.pen_mm, p.fade) / c.grid.cell_mm;
+    set.link = 2.0 / c.grid.cell_mm;
+    for (const auto& stroke : hatch::hatch_mask(m, set)) {
+      Polyline pl;
+      for (const Vec2& q : stroke) pl.pts.push_back(c.grid.to_page(q.x, q.y));
+      for (size_t i = 1; i < pl.pts.size(); ++i)
+        st.hatch_mm += std::hypot(pl.pts[i].x - pl.pts[i - 1].x, pl.pts[i].y - pl.pts[i - 1].y);
+      if (pl.pts.size() >= 2) layer.lines.push_back(std::move(pl)), ++st.lines;
+    }
+    st.length_mm += st.hatch_mm;
+  }
+  if (!pos.empty()) {
+    plan::TourOptions to;
+    to.seconds_cap = p.tour_seconds_cap;
+    to.seed = p.seed;
+    const std::vector<int32_t> partner(pos.size(), -1);
+    const std::vector<uint32_t> path = plan::plan_tour(pos, partner, c.grid.origin_mm, to);
+    const double widest = widest_radius(radius);
+    const auto tone = level_tone(c);
+    Polyline run{{pos[path[0]]}};
+    auto flush = [&] {
+      if (run.pts.size() == 1) {
+        layer.dots.push_back({run.pts[0], c.pen_mm});
+        ++st.touches;
+      } else {
+        for (size_t i = 1; i < run.pts.size(); ++i)
+          st.length_mm += std::hypot(run.pts[i].x - run.pts[i - 1].x, run.pts[i].y - run.pts[i - 1].y);
+        layer.lines.push_back(std::move(run));
+        ++st.lines;
+      }
+      run.pts.clear();
+    };
+    for (size_t i = 1; i < path.size(); ++i) {
+      const Vec2 a = pos[path[i - 1]], b = pos[path[i]];
+      if (lifted(c, radius, widest, tone, p, a, b)) {
+        ++st.lifted;
+        flush();
+      } else {
+        ++st.links;
+      }
+      run.pts.push_back(b);
+    }
+    flush();
+  }
+  d.layers.push_back(std::move(layer));
+  if (stats) *stats = st;
+  return d;
+}
+
+LevelCoverage measured_line_coverage(const StippleCanvas& c, const Drawing& d) {
+  require_one_pass(c);
+  const int w = c.grid.image.width, h = c.grid.image.height;
+  const int S = 2;  // raster cells a grid cell, each way
+  const int rw = w * S, rh = h * S;
+  const double px = c.grid.cell_mm / S;
+  std::vector<uint8_t> ink(static_cast<size_t>(rw) * static_cast<size_t>(rh));
+  auto to_raster = [&](Vec2 q) { return Vec2{(q.x - c.grid.origin_mm.x) / px, (q.y - c.grid.origin_mm.y) / px}; };
+  // A capsule: every raster cell whose centre lies within `r` of the segment a-b.
+  auto capsule = [&](Vec2 a, Vec2 b, double r) {
+    const int x0 = std::max(0, static_cast<int>(std::floor(std::min(a.x, b.x) - r))),
+              x1 = std::min(rw - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + r)));
+    const int y0 = std::max(0, static_cast<int>(std::floor(std::min(a.y, b.y) - r))),
+              y1 = std::min(rh - 1, static_cast<int>(std::ceil(std::max(a.y, b.y) + r)));
+    const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy, r2 = r * r;
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const double qx = x + 0.5 - a.x, qy = y + 0.5 - a.y;
+        const double t = l2 > 0 ? std::clamp((qx * dx + qy * dy) / l2, 0.0, 1.0) : 0;
+        const double ex = qx - t * dx, ey = qy - t * dy;
+        if (ex * ex + ey * ey <= r2) ink[static_cast<size_t>(y) * static_cast<size_t>(rw) + static_cast<size_t>(x)] = 1;
+      }
+  };
+  for (const Layer& l : d.layers) {
+    const double r = 0.5 * l.pen.width_mm / px;
+    for (const Polyline& pl : l.lines)
+      for (size_t i = 1; i < pl.pts.size(); ++i) capsule(to_raster(pl.pts[i - 1]), to_raster(pl.pts[i]), r);
+    for (const Dot& dot : l.dots) {
+      const Vec2 q = to_raster(dot.c);
+      capsule(q, q, 0.5 * std::max(dot.diameter, l.pen.width_mm) / px);
+    }
+  }
+  LevelCoverage out;
+  const auto& plane = c.planes[c.passes[0].plane];
+  for (int y = 0; y < rh; ++y)
+    for (int x = 0; x < rw; ++x) {
+      const uint8_t v = plane[static_cast<size_t>(y / S) * static_cast<size_t>(w) + static_cast<size_t>(x / S)];
+      out.cells[v] += 1;
+      out.covered[v] += ink[static_cast<size_t>(y) * static_cast<size_t>(rw) + static_cast<size_t>(x)];
+    }
+  return out;
+}
+
+}  // namespace stipplot
