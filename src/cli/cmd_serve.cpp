@@ -49,7 +49,7 @@ nlohmann::json profile_list() {
   for (const DeviceProfile& p : list_profiles())
     out.push_back({{"name", p.name},
                    {"description", p.description},
-                   {"dialect", p.protocol == Protocol::grbl ? "gcode" : "hpgl"}});
+                   {"dialect", p.protocol == Protocol::grbl ? "gcode" : p.protocol == Protocol::hpgl ? "hpgl" : "ebb"}});
   return out;
 }
 

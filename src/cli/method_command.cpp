@@ -430,7 +430,7 @@ void MethodCommand::run() const {
   // plot time (a layout for the device moves and turns the drawing, which keeps it).
   const auto t2 = std::chrono::steady_clock::now();
   const Plan plan = plan_drawing(r.drawing, po);
-  const PlanStats stats = plan_stats(plan, prof.motion, po.origin, output_kind(a.output) == OutputKind::gcode);
+  const PlanStats stats = plan_stats(plan, prof.motion, po.origin, output_kind(a.output) == OutputKind::gcode || output_kind(a.output) == OutputKind::ebb);
   nlohmann::json s = r.summary;
   s["command"] = name_;
   s["input"] = a.input;
