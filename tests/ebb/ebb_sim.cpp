@@ -192,7 +192,7 @@ Comparison compare_marks(const std::vector<Path>& plan, const std::vector<Path>&
   return c;
 }
 
-EbbBoard::EbbBoard(const std::string& log) {
+EbbBoard::EbbBoard(const std::string& log, bool realtime) {
   const std::string exe = ensure_ebb_sim();
   int in[2], out[2];
   if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
@@ -200,6 +200,7 @@ EbbBoard::EbbBoard(const std::string& log) {
   if (pid_ == 0) {
     ::dup2(in[0], 0);
     ::dup2(out[1], 1);
+    if (realtime) ::execl(exe.c_str(), exe.c_str(), "-r", "-l", log.c_str(), static_cast<char*>(nullptr));
     ::execl(exe.c_str(), exe.c_str(), "-l", log.c_str(), static_cast<char*>(nullptr));
     ::_exit(127);
   }

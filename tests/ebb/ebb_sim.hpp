@@ -65,7 +65,9 @@ Comparison compare_marks(const std::vector<Path>& plan, const std::vector<Path>&
 // once idle).
 class EbbBoard {
  public:
-  explicit EbbBoard(const std::string& log);
+  // realtime: simulated time paced to the wall clock (ebb_sim -r), as a real board runs;
+  // otherwise as fast as the CPU allows, about 80 times the wall clock.
+  explicit EbbBoard(const std::string& log, bool realtime = false);
   ~EbbBoard();
   EbbBoard(const EbbBoard&) = delete;
   EbbBoard& operator=(const EbbBoard&) = delete;

@@ -11,6 +11,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "drivers/job/ebb_reader.hpp"
+#include "drivers/job/timed_job.hpp"
+#include "drivers/stream/ebb/streamer.hpp"
+#include "drivers/transport/posix_serial.hpp"
 #include "ebb/ebb_sim.hpp"
 #include "test_util.hpp"
 
@@ -82,15 +86,15 @@ TEST_CASE("EBB firmware draws foreign.svg on axidraw-v3 as planned, in the estim
 
 TEST_CASE("EBB firmware draws a small stipple on axidraw-minikit as planned, in the estimated time", "[ebb]") {
   test::TempDir t;
-    // 102 dots of a tone stipple, drawn as touches and filled discs.
-  auto r = test::run_cli("stipple " + test::example("horse.png") + " --page 60x40mm --margin 3 -a 20px -b 40px " +
+    // A 3-minute tone stipple: 269 dots, most of them filled discs (spirals), two touches.
+  auto r = test::run_cli("stipple " + test::example("horse.png") + " --page 60x40mm --margin 3 --time 3min " +
                          "--profile axidraw-minikit -q -o " + t.file("dots.svg"));
   REQUIRE(r.exit_code == 0);
   const Exported e = export_both("export " + t.file("dots.svg") + " --profile axidraw-minikit", t.file("dots"));
   const std::string replies = ebbtest::run_job_file(e.job, t.file("fw.log"));
   CHECK(replies.find('!') == std::string::npos);
   const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
-  REQUIRE(log.marks.size() > 50);
+  REQUIRE(log.marks.size() > 200);
   check_drawn_as_planned(e, log);
   CHECK(log.last_step_s == Approx(e.estimate_s).epsilon(0.01));
 }
@@ -108,8 +112,77 @@ TEST_CASE("stipplot plot streams foreign.svg to the EBB firmware over a pty", "[
   board.finish();
   const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
   check_drawn_as_planned(e, log);
-  // The host kept the firmware's FIFO fed: its motion took the job's own time.
+  // The host kept the firmware's FIFO fed: its motion took the job's own time, and no more
+  // than the same commands fed at once (the FIFO never waiting for the host) but for 0.5 %.
   CHECK(log.last_step_s - log.first_step_s == Approx(e.estimate_s - 0.130).epsilon(0.01));
+  ebbtest::run_job_file(e.job, t.file("fed.log"));
+  const ebbtest::SimLog fed = ebbtest::read_log(t.file("fed.log"), 80);
+  const double starved = (log.last_step_s - log.first_step_s) - (fed.last_step_s - fed.first_step_s);
+  WARN("streamed over the pty: motion " << log.last_step_s - log.first_step_s << " s, fed at once "
+                                        << fed.last_step_s - fed.first_step_s << " s: the FIFO waited " << starved
+                                        << " s for the host");
+  // (The simulation runs about 80 times faster than the wall clock here, so a host pause
+  // of a few ms empties the 32-command FIFO; real time is measured below.)
+  CHECK(starved < 0.01 * (fed.last_step_s - fed.first_step_s));
+}
+
+TEST_CASE("The EBB's FIFO never waits for the host: 2,000 short segments streamed in real time", "[ebb]") {
+  test::TempDir t;
+  // A spiral of 2,000 segments of 0.25 mm (one stroke, about 10 s at 50 mm/s).
+  std::string pts;
+  double a = 0;
+  for (int i = 0; i <= 2000; ++i) {
+    const double r = 5 + 0.8 * a / (2 * M_PI);
+    pts += std::to_string(30 + r * std::cos(a)) + "," + std::to_string(30 + r * std::sin(a)) + " ";
+    a += 0.25 / r;
+  }
+  std::ofstream(t.file("spiral.svg")) << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"60mm\" height=\"60mm\" "
+                                         "viewBox=\"0 0 60 60\"><polyline fill=\"none\" stroke=\"black\" points=\""
+                                      << pts << "\"/></svg>\n";
+  const Exported e = export_both("export " + t.file("spiral.svg") + " --profile axidraw-v3 --simplify 0", t.file("spiral"));
+  ebbtest::EbbBoard board(t.file("fw.log"), true);
+  auto r = test::run_cli("plot " + e.job + " --profile axidraw-v3 --port " + board.port() + " -q");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  board.finish();
+  ebbtest::run_job_file(e.job, t.file("fed.log"));
+  const ebbtest::SimLog live = ebbtest::read_log(t.file("fw.log"), 80), fed = ebbtest::read_log(t.file("fed.log"), 80);
+  check_drawn_as_planned(e, live);
+  REQUIRE(ebbtest::planned_strokes(e.plan).front().size() > 1500);
+  const double starved = (live.last_step_s - live.first_step_s) - (fed.last_step_s - fed.first_step_s);
+  WARN("real time: motion " << live.last_step_s - live.first_step_s << " s, fed at once "
+                            << fed.last_step_s - fed.first_step_s << " s: the FIFO waited " << starved << " s");
+  CHECK(std::fabs(starved) < 0.005);  // under a fifth of one 25 ms slice in all
+}
+
+TEST_CASE("EBB streamer reads both reply syntaxes of firmware 3.0.2: legacy OK and CU,10,1", "[ebb]") {
+  const std::string text = "EM,1,1\nSP,1,130\nSM,100,800,800\nSP,0,146\nSM,100,800,0\nSP,1,130\nSM,200,-1600,-800\n";
+  const stipplot::io::Job job = stipplot::io::parse_ebb_job(text, 80);
+  for (bool standardized : {false, true}) {
+    DYNAMIC_SECTION((standardized ? "standardized" : "legacy")) {
+      test::TempDir t;
+      ebbtest::EbbBoard board(t.file("fw.log"));
+      stipplot::io::PosixSerial port(board.port(), {});
+      stipplot::io::ebb::Options o;
+      o.standardized = standardized;
+      stipplot::io::ebb::Streamer st(port, o);
+      st.connect();
+      CHECK(st.firmware().major == 3);
+      CHECK(st.position() == std::array<int64_t, 2>{0, 0});
+      const auto res = st.stream(job, 0, {}, nullptr);
+      CHECK(res.completed);
+      CHECK(res.lines_acked == job.lines.size());
+      CHECK(st.idle());
+      CHECK(st.position() == std::array<int64_t, 2>{0, 0});
+      CHECK(st.pen_up());
+      CHECK_THROWS_WITH(st.command("SC,4,70000"), Catch::Contains("!6 Err"));
+      port.close();
+      board.finish();
+      const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
+      REQUIRE(log.marks.size() == 1);
+      CHECK(log.steps == 1600 + 800 + 2400);
+    }
+  }
 }
 
 TEST_CASE("A dropped link mid-plot, then plot --resume on the powered EBB, loses nothing", "[ebb]") {
@@ -138,7 +211,7 @@ TEST_CASE("A dropped link mid-plot, then plot --resume on the powered EBB, loses
   }
 }
 
-TEST_CASE("EBB bad input: not an EBB, an error reply, a job outside the travel", "[ebb]") {
+TEST_CASE("EBB bad input: a port where no EBB answers V is refused", "[ebb]") {
   test::TempDir t;
   // A port where nothing answers V.
   const int m = ::posix_openpt(O_RDWR | O_NOCTTY);
@@ -154,25 +227,32 @@ TEST_CASE("EBB bad input: not an EBB, an error reply, a job outside the travel",
   CHECK(r.exit_code == 1);
   CHECK(r.err.find("does not answer V as an EiBotBoard") != std::string::npos);
   CHECK(test::count_lines(r.err) == 1);
+}
 
-  // Outside the 300 x 218 mm travel: refused before anything is sent.
+TEST_CASE("EBB bad input: a job outside the travel is refused before anything is sent", "[ebb]") {
+  test::TempDir t;
+  // Outside the 300 x 218 mm travel.
   const std::string far_job = t.file("far.ebb");
   std::ofstream(far_job) << "EM,1,1\nSP,1,130\nSM,1000,25000,25000\n";
   {
     ebbtest::EbbBoard board(t.file("far.log"));
-    r = test::run_cli("plot " + far_job + " --profile axidraw-v3 --port " + board.port());
+    auto r = test::run_cli("plot " + far_job + " --profile axidraw-v3 --port " + board.port());
     CHECK(r.exit_code == 1);
     CHECK(r.err.find("outside the travel") != std::string::npos);
     CHECK(board.commands() == 0);
     board.finish();
   }
+}
 
-  // The firmware refuses a command: "!6 Err: Invalid parameter value" stops the plot.
+TEST_CASE("EBB bad input: an error reply stops the plot before the pen moves", "[ebb]") {
+  test::TempDir t;
+  // The firmware refuses a command: "!6 Err: Invalid parameter value".
   const std::string bad_job = t.file("bad.ebb");
   std::ofstream(bad_job) << "EM,1,1\nSC,4,70000\nSP,1,130\nSM,100,800,800\n";
   {
     ebbtest::EbbBoard board(t.file("bad.log"));
-    r = test::run_cli("plot " + bad_job + " --profile axidraw-v3 --port " + board.port() + " -q");
+    auto r = test::run_cli("plot " + bad_job + " --profile axidraw-v3 --port " + board.port() + " -q");
+    INFO(r.err);
     CHECK(r.exit_code == 1);
     CHECK(r.err.find("!6 Err: Invalid parameter value") != std::string::npos);
     board.finish();

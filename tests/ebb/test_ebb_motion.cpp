@@ -9,6 +9,7 @@
 #include "drivers/job/timed_job.hpp"
 #include "drivers/motion/ebb_motion.hpp"
 #include "drivers/stream/ebb/streamer.hpp"
+#include "drivers/transport/devices.hpp"
 #include "drivers/writers/ebb_writer.hpp"
 #include "util/error.hpp"
 
@@ -136,4 +137,19 @@ TEST_CASE("EBB firmware versions: 2.5 to 3.x, and what is not an EBB", "[ebb]") 
   CHECK_THROWS_WITH(io::ebb::parse_firmware("Grbl 1.1h ['$' for help]"), Catch::Contains("does not answer V as an EiBotBoard"));
   CHECK_THROWS_WITH(io::ebb::parse_firmware("EBBv13_and_above EB Firmware Version 2.4.1"), Catch::Contains("not supported"));
   CHECK_THROWS_WITH(io::ebb::parse_firmware("EBBv13_and_above EB Firmware Version 4.0.0"), Catch::Contains("not supported"));
+}
+
+TEST_CASE("stipplot devices names an EiBotBoard by its USB id", "[ebb]") {
+  io::DeviceList d;
+  io::SerialPortInfo p;
+  p.name = "/dev/ttyACM0";
+  p.transport = "usb";
+  p.vid = 0x04d8;
+  p.pid = 0xfd92;
+  p.product = "EiBotBoard";
+  d.serial.push_back(p);
+  const std::string s = io::format_devices(d);
+  CHECK(s.find("04d8:fd92") != std::string::npos);
+  CHECK(s.find("axidraw-v3") != std::string::npos);
+  CHECK(io::choose_port(d) == "/dev/ttyACM0");
 }

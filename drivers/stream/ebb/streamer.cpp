@@ -74,19 +74,40 @@ bool Streamer::read_line(std::string& out, Millis timeout) {
   }
 }
 
+namespace {
+// "!6 Err: ..." (legacy) or "SC!6 Err: ..." (standardized: the command's name first).
+bool is_error(const std::string& line) {
+  const size_t bang = line.find('!');
+  return bang != std::string::npos && bang <= 2 && line.find(" Err", bang) != std::string::npos;
+}
+}  // namespace
+
 std::string Streamer::reply(const std::string& cmd, Millis timeout, long job_line) {
   const std::string name = name_of(cmd);
+  const auto end = clock::now() + timeout;
   std::string data, line;
-  bool have_data = false;
+  int nudges = 0;
   for (;;) {
-    if (!read_line(line, timeout))
+    const auto left = std::chrono::duration_cast<Millis>(end - clock::now());
+    if (left.count() <= 0)
       throw TransportError(TransportError::Kind::Timeout,
                            "the EBB on " + t_.describe() + " did not answer `" + cmd + "` within " +
                                std::to_string(timeout.count() / 1000) + " s");
-    if (line[0] == '!') {
-      const int code = std::atoi(line.c_str() + 1);
+    if (!read_line(line, std::min(left, Millis(300)))) {
+      // ebb_sim (the firmware on a PC) stops its clock once the board is idle, sometimes
+      // with an answer half sent or an error's line end held back; any input brings the rest. A QG does (three at most: the
+      // firmware's input buffer is 256 bytes); its own late answer is harmless, being a
+      // line before an OK (below) or a true QG answer from a moment before.
+      if (nudges++ < 3) t_.write("QG\r");
+      continue;
+    }
+    if (is_error(line)) {
+      const int code = std::atoi(line.c_str() + line.find('!') + 1);
+      // With commands in flight the firmware may print a command's error after the next
+      // one's OK: the line named or the one before it.
       throw DeviceError("the EBB refused `" + cmd + "`" +
-                            (job_line >= 0 ? " (job line " + std::to_string(job_line + 1) + ")" : std::string()) +
+                            (job_line >= 0 ? " (job line " + std::to_string(job_line + 1) + " or the one before it)"
+                                           : std::string()) +
                             ": " + line,
                         job_line, code, false);
     }
@@ -94,8 +115,9 @@ std::string Streamer::reply(const std::string& cmd, Millis timeout, long job_lin
       if (line.compare(0, name.size(), name) != 0) continue;  // not ours (a late reply)
       return line.size() > name.size() + 1 ? line.substr(name.size() + 1) : "";
     }
+    // The last data line before the OK: an earlier one is a late answer to a QG.
     if (line == "OK") return data;
-    if (!have_data) data = line, have_data = true;
+    data = line;
     if (no_ok(name)) return data;
   }
 }
@@ -119,11 +141,17 @@ void Streamer::connect() {
     t_.write("V\r");
     std::string line;
     const auto end = clock::now() + o_.reply_timeout;
-    while (clock::now() < end && read_line(line, o_.reply_timeout))
+    while (clock::now() < end) {
+      if (!read_line(line, Millis(300))) {
+        // Half an EBB's answer stuck in ebb_sim (see reply()): another V brings it.
+        if (incoming_.find("EBB") != std::string::npos) t_.write("V\r");
+        continue;
+      }
       if (line.find("EBB") != std::string::npos || line.find("Version") != std::string::npos) {
         v = line;
         break;
       }
+    }
   }
   if (v.empty())
     throw UserError("the device on " + t_.describe() + " does not answer V as an EiBotBoard does" +
@@ -133,8 +161,16 @@ void Streamer::connect() {
   incoming_.clear();
   note("EBB firmware " + v);
   if (fw_.major >= 3) {
-    command(o_.standardized ? "CU,10,1" : "CU,10,0");
+    if (o_.standardized) {
+      // Its own answer is an empty line (the mode changes between the name and the end).
+      t_.write("CU,10,1\r");
+      std::this_thread::sleep_for(Millis(50));
+    } else {
+      command("CU,10,0");
+    }
     command("CU,4," + std::to_string(o_.fifo));  // waits for the FIFO to empty first
+  } else if (o_.standardized) {
+    throw UserError("EBB firmware " + v + " has no standardized replies (CU,10 is 3.x)");
   }
 }
 
@@ -259,6 +295,7 @@ class Streamer::JobRun {
     s_.reply(session_.text(item), s_.o_.watchdog + millis(allowed), session_.job_line(item));
     in_flight_.pop_front();
     answered_ = item + 1;
+    if (name_of(session_.text(item)) == "SM") moved_ = true;
     if (session_.job_line(item) >= 0) session_.acknowledge(session_.job_line(item));
     session_.report(sent_);
   }
@@ -315,7 +352,9 @@ class Streamer::JobRun {
         if (!pen_up_.empty()) s_.command(pen_up_);
         return false;
       }
-      if (sent_ < n && in_flight_.size() < s_.o_.in_flight) {
+      // Until the first move is answered, one command at a time: a set-up the board refuses
+      // stops the plot before the pen moves.
+      if (sent_ < n && in_flight_.size() < (moved_ ? s_.o_.in_flight : 1)) {
         const JobLine* jl = line_of(sent_);
         if (jl && jl->host_only) {
           if (jl->pause) pause_at(sent_);
@@ -337,6 +376,7 @@ class Streamer::JobRun {
   StreamControls* controls_;
   std::deque<size_t> in_flight_;
   size_t sent_ = 0, answered_ = 0;
+  bool moved_ = false;  // an SM has been answered
   std::string pen_up_, pen_down_;
 };
 
