@@ -88,6 +88,7 @@ SimLog read_log(const std::string& path, double spm) {
       if (std::sscanf(line.c_str(), "%*f STEP %d %d %lld", &motor, &dir, &pos) != 3) continue;
       (motor == 1 ? out.m1 : out.m2) = pos;
       ++out.steps;
+      if (down) ++out.down_steps;
       if (out.first_step_s < 0) out.first_step_s = t;
       out.last_step_s = t;
       if (down) cur.push_back(here());
@@ -148,6 +149,20 @@ std::vector<Path> job_marks(const std::string& job_path, double spm) {
     }
   }
   return out;
+}
+
+size_t job_down_steps(const std::string& job_path) {
+  std::istringstream job(slurp(job_path));
+  std::string l;
+  bool down = false;
+  size_t n = 0;
+  while (std::getline(job, l)) {
+    long long a = 0, b = 0, c = 0;
+    if (std::sscanf(l.c_str(), "SM,%lld,%lld,%lld", &a, &b, &c) == 3 && down) n += static_cast<size_t>(std::llabs(b) + std::llabs(c));
+    if (l.rfind("SP,0", 0) == 0) down = true;
+    if (l.rfind("SP,1", 0) == 0) down = false;
+  }
+  return n;
 }
 
 std::vector<Path> planned_strokes(const std::string& svg_path) {

@@ -33,7 +33,7 @@ struct SimLog {
   std::vector<Path> marks;
   double first_step_s = -1, last_step_s = -1, first_command_s = -1;
   int64_t m1 = 0, m2 = 0;
-  size_t steps = 0;
+  size_t steps = 0, down_steps = 0;  // all motor steps, and those with the pen down
 };
 SimLog read_log(const std::string& path, double steps_per_mm);
 
@@ -48,6 +48,8 @@ std::vector<Path> planned_strokes(const std::string& svg_path);
 // The pen-down paths a job commands: where each SP,0 puts the pen down, then the end of
 // every SM until the SP,1 (machine mm).
 std::vector<Path> job_marks(const std::string& job_path, double steps_per_mm);
+// The motor steps the job's SMs make with the pen down (|motor 1| + |motor 2|).
+size_t job_down_steps(const std::string& job_path);
 
 // Every plan stroke drawn once, in order, within `tol` mm: the firmware's marks and the
 // plan's strokes pair up one to one; every point of a mark lies within tol of its stroke

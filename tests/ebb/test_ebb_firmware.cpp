@@ -66,8 +66,11 @@ void check_drawn_as_planned(const Exported& e, const ebbtest::SimLog& log) {
   CHECK(cmp.ok);
   CHECK(log.m1 == 0);  // back home, to the step
   CHECK(log.m2 == 0);
+  // Nothing drawn twice or left out: the pen-down steps are the job's, to the step.
+  CHECK(log.down_steps == ebbtest::job_down_steps(e.job));
   WARN("marks " << cmp.drawn_marks << "/" << cmp.plan_marks << ", worst distance from the job's moves " << as_sent.worst
-                << " mm, from the plan " << cmp.worst << " mm; firmware motion ends at " << log.last_step_s
+                << " mm, from the plan " << cmp.worst << " mm; pen-down steps " << log.down_steps << " (job "
+                << ebbtest::job_down_steps(e.job) << "); firmware motion ends at " << log.last_step_s
                 << " s, estimate " << e.estimate_s << " s");
 }
 
