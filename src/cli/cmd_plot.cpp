@@ -634,7 +634,7 @@ void register_plot(CLI::App& app) {
       "          stipplot plot photo.svg --profile axidraw-v3 --port /dev/ttyACM0   (an AxiDraw's EBB)");
   cmd->add_option("input", a->input, "Job file (.gcode, .hpgl, .ebb) or SVG");
   cmd->add_option("--profile", a->profile, "Device profile (name or PATH): serial settings, handshake, pen, motion");
-  cmd->add_option("--job", a->job_out, "Where to write the job planned from an SVG (default: IN with .gcode/.hpgl)");
+  cmd->add_option("--job", a->job_out, "Where to write the job planned from an SVG (default: IN with .gcode/.hpgl/.ebb)");
   cmd->add_option("--port", a->port, "Serial port (/dev/ttyUSB0, COM3), usb:VID:PID, or file:PATH");
   cmd->add_flag("--sim", a->sim, "Plot on the in-process simulated plotter");
   cmd->add_option("--resume", a->resume, "Continue job JOB from its journal (JOB.journal)");

@@ -197,7 +197,7 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
   a.profile_option =
       cmd->add_option("--profile", a.profile,
                       "Device profile NAME or PATH (see `stipplot profiles`): the plotter the --time budget is for, "
-                      "the writer of .gcode/.hpgl, whose sheet is the default page when named or written for")
+                      "the writer of .gcode/.hpgl/.ebb, whose sheet is the default page when named or written for")
           ->capture_default_str()->group("Output");
   cmd->add_option("--time", a.time,
                   "Plot-time budget on --profile (45min, 1h, 1.5h, 1h30min): the density is chosen so the planned "
