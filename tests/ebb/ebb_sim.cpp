@@ -240,6 +240,7 @@ void EbbBoard::open_pty() {
   if (m < 0 || ::grantpt(m) != 0 || ::unlockpt(m) != 0) throw std::runtime_error("no pty");
   ::fcntl(m, F_SETFL, O_NONBLOCK);
   std::lock_guard<std::mutex> lk(mu_);
+  if (master_ >= 0) ::close(master_);  // the old link (a killed client's) goes
   master_ = m;
   port_ = ::ptsname(m);
   dropped_ = false;

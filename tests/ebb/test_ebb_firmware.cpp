@@ -4,8 +4,13 @@
 #include <catch2/catch.hpp>
 
 #include <fcntl.h>
+#include <signal.h>
 #include <stdlib.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <chrono>
+#include <thread>
 
 #include <cmath>
 #include <fstream>
@@ -212,6 +217,36 @@ TEST_CASE("A dropped link mid-plot, then plot --resume on the powered EBB, loses
       check_drawn_as_planned(e, log);
     }
   }
+}
+
+TEST_CASE("The host killed (SIGKILL) mid-plot, then plot --resume on the powered EBB, loses nothing", "[ebb]") {
+  test::TempDir t;
+  const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));
+  ebbtest::EbbBoard board(t.file("fw.log"));
+  const size_t lines = static_cast<size_t>(test::count_lines(test::read_file(e.job)));
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_RDWR);
+    ::dup2(null, 0), ::dup2(null, 1), ::dup2(null, 2);
+    ::execl(STIPPLOT_BIN, STIPPLOT_BIN, "plot", e.job.c_str(), "--profile", "axidraw-v3", "--port", board.port().c_str(),
+            "--pen-change", "continue", "-q", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  REQUIRE(pid > 0);
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (board.commands() < lines / 2 && std::chrono::steady_clock::now() < give_up)
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  ::kill(pid, SIGKILL);
+  int st = 0;
+  ::waitpid(pid, &st, 0);
+  REQUIRE(WIFSIGNALED(st));  // killed mid-plot, not finished
+  const std::string port = board.reconnect();
+  auto r = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json -q");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(ebb_last_json(r.out)["completed"].get<bool>());
+  board.finish();
+  check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));
 }
 
 TEST_CASE("EBB bad input: a port where no EBB answers V is refused", "[ebb]") {
