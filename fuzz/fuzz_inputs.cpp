@@ -2,7 +2,9 @@
 
 #include "drivers/device/profile.hpp"
 #include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/ebb_reader.hpp"
 #include "drivers/job/hpgl_reader.hpp"
+#include "drivers/job/timed_job.hpp"
 #include "drivers/job/segments.hpp"
 #include "image/image.hpp"
 #include "methods/palette.hpp"
@@ -51,6 +53,15 @@ void hpgl(const uint8_t* d, size_t n) {
   answering([&] { (void)io::job_segments(io::parse_hpgl_job(text_of(d, n))); });
 }
 
+// An EiBotBoard job: its lines, the pen-down segments and the firmware time of each line.
+void ebb(const uint8_t* d, size_t n) {
+  answering([&] {
+    const io::Job job = io::parse_ebb_job(text_of(d, n), 80);
+    (void)io::job_segments(job);
+    (void)io::time_ebb_job(job);
+  });
+}
+
 void profile(const uint8_t* d, size_t n) {
   answering([&] { (void)parse_profile(text_of(d, n), "fuzz.toml"); });
 }
@@ -71,7 +82,8 @@ void image(const uint8_t* d, size_t n) {
 
 const std::vector<Target>& targets() {
   static const std::vector<Target> all = {{"svg", svg},         {"gcode", gcode},     {"hpgl", hpgl},
-                                          {"profile", profile}, {"palette", palette}, {"image", image}};
+                                          {"ebb", ebb},         {"profile", profile}, {"palette", palette},
+                                          {"image", image}};
   return all;
 }
 

@@ -16,7 +16,7 @@ struct Target {
   void (*run)(const uint8_t* data, size_t size);
 };
 
-// svg (read, then planned when small), gcode and hpgl (job readers and their segments),
+// svg (read, then planned when small), gcode, hpgl and ebb (job readers and their segments),
 // profile (device TOML), palette (pen TOML), image (the image loader).
 const std::vector<Target>& targets();
 const Target* find_target(const std::string& name);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (fuzz/) with Debian's clang-14 under AddressSanitizer and
 # UndefinedBehaviorSanitizer (float-cast-overflow included) and runs each for
-# FUZZ_SECONDS (default 10; six targets, 60 s in all) from its seed corpus,
+# FUZZ_SECONDS (default 10; seven targets, 70 s in all) from its seed corpus,
 # tests/fuzz/corpus/<target>/ (copied: the tracked seeds stay as they are). Prints each
 # target's executions; a crash, leak, timeout or memory blow-up fails the script and
 # leaves its input in build-fuzz/crashes/<target>/: copy it to tests/fuzz/crashes/<target>/,
@@ -17,7 +17,7 @@ CC=clang-14 CXX=clang++-14 cmake -S . -B "$dir" "${gen[@]}" -DCMAKE_BUILD_TYPE=D
   -DSTIPPLOT_FUZZ=ON -DSTIPPLOT_BENCH=OFF >/dev/null
 cmake --build "$dir" -j "$(nproc)" --target fuzz_all
 status=0
-for t in svg gcode hpgl profile palette image; do
+for t in svg gcode hpgl ebb profile palette image; do
   work="$dir/corpus/$t"
   rm -rf "$work" "$dir/crashes/$t"
   mkdir -p "$work" "$dir/crashes/$t"

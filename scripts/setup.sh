@@ -19,6 +19,7 @@ TEST=(
   chromium            # not built against: the studio's browser test drives it headless
   inkscape  # not built against: its example drawings (/usr/share/inkscape/examples) are test inputs
   gcc-avr avr-libc binutils-avr simavr libsimavr-dev  # the firmware oracle: grbl 1.1h's AVR binary on simavr
+  gcc-multilib  # the EBB oracle: ebb_sim, the EiBotBoard firmware built with gcc -m32 (C18's 32-bit long)
 )
 # The browser test's driver (playwright-core, tests/browser) comes from npm.
 command -v npm >/dev/null 2>&1 || TEST+=(nodejs npm)

@@ -23,8 +23,12 @@ if ! wait "$setup_test"; then
 fi
 cat build/setup-test.log
 phase "set-up for the tests"
-(cd build && ctest --output-on-failure -j "$(nproc)" -LE firmware)
+(cd build && ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb')
 phase "tests"
+# The EiBotBoard firmware v3.0.2 compiled for the PC (ebb_sim, tests/ebb): built into the
+# build tree by the first test that needs it, then AxiDraw jobs streamed to it.
+(cd build && ctest --output-on-failure -j "$(nproc)" -L ebb)
+phase "EBB firmware tests"
 # The real grbl 1.1h AVR binary on simavr (tests/firmware): one simulated CPU, paced to the
 # wall clock, no host threads to race. A firmware test passes first time or fails.
 (cd build && ctest --output-on-failure -L firmware)

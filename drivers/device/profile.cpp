@@ -193,14 +193,16 @@ MachineGeometry read_machine(Section s, bool hpgl) {
   return m;
 }
 
-MotionParams read_motion(Section s) {
+MotionParams read_motion(Section s, bool ebb) {
   MotionParams m;
   m.speed_down_mm_s = s.number("speed_down_mm_s", 0.1, 10000);
   m.speed_up_mm_s = s.number("speed_up_mm_s", 0.1, 10000);
   m.accel_mm_s2 = s.number("accel_mm_s2", 1, 1e6);
   m.junction_deviation_mm = s.number("junction_deviation_mm", 0, 10);
-  m.pen_lift_s = s.number("pen_lift_s", 0, 10);
-  m.pen_drop_s = s.number("pen_drop_s", 0, 10);
+  if (!ebb) {  // an EBB's pen times follow from its servo settings ([pen], ebb_pen)
+    m.pen_lift_s = s.number("pen_lift_s", 0, 10);
+    m.pen_drop_s = s.number("pen_drop_s", 0, 10);
+  }
   m.lookahead_blocks = s.integer("lookahead_blocks", 1, 10000);
   // Optional: older profiles without it change pens by hand (no machine time).
   m.pen_change_s = s.has("pen_change_s") ? s.number("pen_change_s", 0, 3600) : 0;
@@ -208,10 +210,12 @@ MotionParams read_motion(Section s) {
   return m;
 }
 
-PenSetup read_pen(Section s, bool hpgl) {
+PenSetup read_pen(Section s, bool hpgl, bool ebb) {
   PenSetup p;
   if (hpgl) {
     p.method = s.choice<PenMethod>("method", {{"hpgl", PenMethod::hpgl}});
+  } else if (ebb) {
+    p.method = s.choice<PenMethod>("method", {{"ebb-servo", PenMethod::ebb}});
   } else {
     p.method = s.choice<PenMethod>(
         "method", {{"servo", PenMethod::servo}, {"z", PenMethod::z_axis}, {"laser", PenMethod::laser}});
@@ -236,6 +240,14 @@ PenSetup read_pen(Section s, bool hpgl) {
       p.laser_power_s = s.number("laser_power_s", 0, 100000);
       break;
     case PenMethod::hpgl:
+      break;
+    case PenMethod::ebb:
+      p.pos_up_pct = s.number("pos_up_pct", 0, 100);
+      p.pos_down_pct = s.number("pos_down_pct", 0, 100);
+      p.rate_raise_pct = s.number("rate_raise_pct", 1, 200);
+      p.rate_lower_pct = s.number("rate_lower_pct", 1, 200);
+      p.delay_up_ms = s.number("delay_up_ms", 0, 10000);
+      p.delay_down_ms = s.number("delay_down_ms", 0, 10000);
       break;
   }
   p.dot_dwell_s = s.number("dot_dwell_s", 0, 10);
@@ -267,6 +279,21 @@ GrblSetup read_grbl(Section s, const MachineGeometry& m) {
   return g;
 }
 
+EbbSetup read_ebb(Section s) {
+  EbbSetup e;
+  e.steps_per_mm = s.number("steps_per_mm", 1, 10000);
+  e.servo_min = s.integer("servo_min", 1, 65535);
+  e.servo_max = s.integer("servo_max", 1, 65535);
+  e.servo_sweep_ms = s.number("servo_sweep_ms", 1, 10000);
+  e.servo_move_min_ms = s.number("servo_move_min_ms", 0, 10000);
+  e.servo_move_slope_ms = s.number("servo_move_slope_ms", 0, 1000);
+  e.servo_pwm_period = s.number("servo_pwm_period", 0.001, 100);
+  e.time_slice_ms = s.integer("time_slice_ms", 1, 1000);
+  e.fifo_commands = s.integer("fifo_commands", 1, 32);  // the firmware's COMMAND_FIFO_MAX_LENGTH
+  s.finish();
+  return e;
+}
+
 // [serial]; its handshake key belongs to the HPGL settings.
 SerialSetup read_serial(Section s, bool hpgl, HpglSettings& h) {
   SerialSetup ser;
@@ -287,31 +314,53 @@ SerialSetup read_serial(Section s, bool hpgl, HpglSettings& h) {
   return ser;
 }
 
+// An EBB's pen times from its servo (axicli's formula), and its speeds within the
+// firmware's step rate: motor 1 steps at (|vx| + |vy|) * steps_per_mm at worst.
+void finish_ebb(DeviceProfile& p, const std::string& file) {
+  const EbbPen pen = ebb_pen(p.pen, p.ebb);
+  p.motion.pen_lift_s = pen.raise_ms / 1000.0;
+  p.motion.pen_drop_s = pen.lower_ms / 1000.0;
+  const double worst = std::max(p.motion.speed_up_mm_s, p.motion.speed_down_mm_s) * std::sqrt(2.0) * p.ebb.steps_per_mm;
+  if (worst > p.ebb.max_step_rate_hz)
+    throw UserError("profile " + file + ": speeds above " +
+                    std::to_string(p.ebb.max_step_rate_hz / std::sqrt(2.0) / p.ebb.steps_per_mm) +
+                    " mm/s would step a motor faster than the EBB's 25 kHz");
+  if (p.pen.count != 1) throw UserError("profile " + file + ": key pen.count must be 1 on an EBB machine");
+}
+
 DeviceProfile parse_table(const toml::table& root, const std::string& file) {
   DeviceProfile p;
-  static const std::set<std::string> kSections = {"machine", "motion", "pen", "hpgl", "grbl", "serial"};
+  static const std::set<std::string> kSections = {"machine", "motion", "pen", "hpgl", "grbl", "ebb", "serial"};
 
   Section top(&root, "", file);
   p.name = top.string("name");
   if (p.name.empty() || p.name.find_first_of(" \t/") != std::string::npos)
     top.fail("name", "must be a non-empty word without spaces or '/'");
   p.description = top.string("description");
-  p.protocol = top.choice<Protocol>("protocol", {{"grbl", Protocol::grbl}, {"hpgl", Protocol::hpgl}});
+  p.protocol = top.choice<Protocol>("protocol",
+                                    {{"grbl", Protocol::grbl}, {"hpgl", Protocol::hpgl}, {"ebb", Protocol::ebb}});
   const bool hpgl = p.protocol == Protocol::hpgl;
+  const bool ebb = p.protocol == Protocol::ebb;
   auto section = [&](const char* name) { return Section(subtable(root, name, file, true), name, file); };
 
   p.machine = read_machine(section("machine"), hpgl);
-  p.motion = read_motion(section("motion"));
-  p.pen = read_pen(section("pen"), hpgl);
+  p.motion = read_motion(section("motion"), ebb);
+  p.pen = read_pen(section("pen"), hpgl, ebb);
   if (hpgl) {
     read_hpgl(section("hpgl"), p.hpgl);
   } else if (root.contains("hpgl")) {
     throw UserError("profile " + file + ": section [hpgl] is only for protocol = \"hpgl\"");
   }
-  if (!hpgl) {
+  if (!hpgl && !ebb) {
     p.grbl = read_grbl(Section(subtable(root, "grbl", file, false), "grbl", file), p.machine);
   } else if (root.contains("grbl")) {
     throw UserError("profile " + file + ": section [grbl] is only for protocol = \"grbl\"");
+  }
+  if (ebb) {
+    p.ebb = read_ebb(section("ebb"));
+    finish_ebb(p, file);
+  } else if (root.contains("ebb")) {
+    throw UserError("profile " + file + ": section [ebb] is only for protocol = \"ebb\"");
   }
   p.serial = read_serial(section("serial"), hpgl, p.hpgl);
   // Top-level: everything else must be a known section.
@@ -412,7 +461,34 @@ DeviceProfile find_profile(const std::string& name_or_path) {
                   "; searched " + searched + ")");
 }
 
-std::string to_string(Protocol p) { return p == Protocol::grbl ? "grbl" : "hpgl"; }
+std::string to_string(Protocol p) {
+  switch (p) {
+    case Protocol::grbl: return "grbl";
+    case Protocol::hpgl: return "hpgl";
+    case Protocol::ebb: return "ebb";
+  }
+  return "?";
+}
+
+EbbPen ebb_pen(const PenSetup& pen, const EbbSetup& e) {
+  EbbPen out;
+  const double range = e.servo_max - e.servo_min;
+  out.up = static_cast<int>(std::lround(e.servo_min + range / 100 * pen.pos_up_pct));
+  out.down = static_cast<int>(std::lround(e.servo_min + range / 100 * pen.pos_down_pct));
+  const double rate_scale = range * e.servo_pwm_period / e.servo_sweep_ms;
+  out.rate_up = static_cast<int>(std::lround(rate_scale * pen.rate_raise_pct));
+  out.rate_down = static_cast<int>(std::lround(rate_scale * pen.rate_lower_pct));
+  const double dist = std::fabs(pen.pos_up_pct - pen.pos_down_pct);
+  auto travel_ms = [&](double rate_pct) {
+    if (dist < 0.9) return 0.0;  // axicli: equal heights need no wait
+    const double fast = e.servo_move_slope_ms * dist + e.servo_move_min_ms;
+    const double slow = e.servo_sweep_ms * dist / rate_pct;
+    return std::floor(std::pow(std::pow(fast, 4) + std::pow(slow, 4), 0.25));
+  };
+  out.raise_ms = static_cast<int>(travel_ms(pen.rate_raise_pct) + pen.delay_up_ms);
+  out.lower_ms = static_cast<int>(travel_ms(pen.rate_lower_pct) + pen.delay_down_ms);
+  return out;
+}
 
 std::string to_string(PenMethod m) {
   switch (m) {
@@ -420,6 +496,7 @@ std::string to_string(PenMethod m) {
     case PenMethod::z_axis: return "z";
     case PenMethod::laser: return "laser";
     case PenMethod::hpgl: return "hpgl";
+    case PenMethod::ebb: return "ebb-servo";
   }
   return "?";
 }

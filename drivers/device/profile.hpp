@@ -15,11 +15,11 @@
 
 namespace stipplot {
 
-enum class Protocol { grbl, hpgl };
+enum class Protocol { grbl, hpgl, ebb };
 // Corner of the page at machine zero; coordinates grow away from it along each axis,
 // times the axis sign (grbl machines homed to "negative space" use -1).
 enum class Origin { top_left, bottom_left };
-enum class PenMethod { servo, z_axis, laser, hpgl };
+enum class PenMethod { servo, z_axis, laser, hpgl, ebb };
 // How the host avoids overrunning an HPGL plotter's buffer: not at all, in-band
 // XON/XOFF from the plotter, RTS/CTS in the serial driver, or asking for the free space
 // (ESC.B) before sending.
@@ -53,7 +53,39 @@ struct PenSetup {
   double z_up_mm = 0, z_down_mm = 0, z_feed_mm_s = 0;  // z_axis
   double laser_power_s = 0;   // laser: M4 S<power> while "down", M5 otherwise
   double dot_dwell_s = 0;     // extra time the pen rests on a single-point stroke
+  // ebb: the pen-lift servo as axicli sets it, in percent of the servo's range (0 = the
+  // pulse width [ebb] servo_min, 100 = servo_max) and of its full-range sweep rate.
+  double pos_up_pct = 60, pos_down_pct = 30;
+  double rate_raise_pct = 75, rate_lower_pct = 50;
+  double delay_up_ms = 0, delay_down_ms = 0;  // waited after the servo's own travel time
 };
+
+// [ebb] (protocol ebb): an EiBotBoard machine. Two motors mixed (motor 1 = x + y, motor 2
+// = x - y, AxiDraw's belt layout) at `steps_per_mm` motor steps per mm of each sum (80 at
+// 16x microstepping: 2032 steps/inch, axidraw_conf's native_res_factor 1016 x 2); the
+// servo's pulse range in 1/12 µs units and its timing constants (axidraw_conf.py);
+// moves cut into constant-rate SM commands of at most `time_slice_ms`; the firmware's
+// motion FIFO lengthened to `fifo_commands` (CU,4; v3.x only).
+struct EbbSetup {
+  double steps_per_mm = 80;
+  int servo_min = 9855, servo_max = 27831;
+  double servo_sweep_ms = 200, servo_move_min_ms = 45, servo_move_slope_ms = 2.69;
+  double servo_pwm_period = 0.24;  // axicli's rate scale: range * period / sweep per % of rate
+  int time_slice_ms = 25;
+  int fifo_commands = 32;
+  double max_step_rate_hz = 25000;  // the 25 kHz motion interrupt: one step per tick
+};
+
+// The EBB pen's servo positions, rates and the time each move takes, as axicli computes
+// them from the percentages (pen_handling.py): position = min + (max - min) * pct / 100,
+// rate = (max - min) * pwm_period / sweep_ms * rate_pct, and a move's time the 4th-power
+// blend of (slope * dist + min) and (sweep * dist / rate_pct), plus the delay.
+struct EbbPen {
+  int up = 0, down = 0;          // SC,4 / SC,5
+  int rate_up = 0, rate_down = 0;  // SC,11 / SC,12
+  int raise_ms = 0, lower_ms = 0;  // SP,1,<raise_ms> / SP,0,<lower_ms>
+};
+EbbPen ebb_pen(const PenSetup& pen, const EbbSetup& e);
 
 // [hpgl] (protocol hpgl only), and [serial] handshake.
 struct HpglSettings {
@@ -95,6 +127,7 @@ struct DeviceProfile {
   PenSetup pen;
   HpglSettings hpgl;
   GrblSetup grbl;
+  EbbSetup ebb;
   SerialSetup serial;
 };
 

@@ -2,7 +2,14 @@
 
 namespace stipplot::io {
 
-const char* to_string(Dialect d) { return d == Dialect::Hpgl ? "hpgl" : "gcode"; }
+const char* to_string(Dialect d) {
+  switch (d) {
+    case Dialect::GCode: return "gcode";
+    case Dialect::Hpgl: return "hpgl";
+    case Dialect::Ebb: return "ebb";
+  }
+  return "?";
+}
 
 std::string Job::pen_at(size_t line) const {
   std::string out;

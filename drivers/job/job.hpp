@@ -1,5 +1,6 @@
 #pragma once
-// A plot job as the streamers see it: text lines (G-code lines or HPGL instructions),
+// A plot job as the streamers see it: text lines (G-code lines, HPGL instructions or
+// EiBotBoard commands),
 // each with what it does to the pen and where the pen is after it, read from the job
 // text itself (gcode_reader.hpp, hpgl_reader.hpp), and the segments a job draws.
 #include <string>
@@ -7,7 +8,7 @@
 
 namespace stipplot::io {
 
-enum class Dialect { GCode, Hpgl };
+enum class Dialect { GCode, Hpgl, Ebb };
 const char* to_string(Dialect d);
 
 struct JobLine {

@@ -81,9 +81,23 @@ std::vector<Segment> hpgl_segments(const Job& job) {
   return t.segments();
 }
 
+// EBB: every line's pen state and position (an SP changes only the pen, an SM only the
+// position).
+std::vector<Segment> ebb_segments(const Job& job) {
+  PenTrace t;
+  for (const auto& l : job.lines) {
+    if (l.host_only) continue;
+    if (l.pen_down != t.down()) t.pen(l.pen_down);
+    if (l.motion) t.move(l.x, l.y);
+  }
+  t.pen(false);
+  return t.segments();
+}
+
 }  // namespace
 
 std::vector<Segment> job_segments(const Job& job) {
+  if (job.dialect == Dialect::Ebb) return ebb_segments(job);
   return job.dialect == Dialect::GCode ? gcode_segments(job) : hpgl_segments(job);
 }
 

@@ -1,5 +1,7 @@
 #include "drivers/job/timed_job.hpp"
 
+#include "drivers/job/ebb_reader.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -158,6 +160,30 @@ void HpglTimer::feed(std::string_view instruction, bool host_only, bool pause) {
 
 JobTiming time_hpgl_job(const Job& job, const motion::HpglMotion& plotter) {
   HpglTimer timer(plotter);
+  for (const JobLine& l : job.lines) timer.feed(l.text, l.host_only, l.pause);
+  return timer.finish();
+}
+
+void EbbTimer::feed(std::string_view line, bool host_only, bool pause) {
+  if (pause) ++t_.pauses;
+  if (!host_only) {
+    const EbbCommand c = parse_ebb_command(line, t_.done_s.size() + 1);
+    const bool move = c.name == "SM" && (c.s1 != 0 || c.s2 != 0);
+    if (move && t_.motion_start_s < 0) t_.motion_start_s = static_cast<double>(now_ms_) / 1000;
+    if (move && !moving_) t_.starts_from_rest.push_back(static_cast<double>(now_ms_) / 1000);
+    if (c.name == "SM" || c.name == "SP") {
+      if (moving_ && !move) ++t_.stops;
+      moving_ = move;
+    }
+    now_ms_ += c.ms;
+    if (move) t_.motion_end_s = static_cast<double>(now_ms_) / 1000;
+  }
+  t_.done_s.push_back(static_cast<double>(now_ms_) / 1000);
+  t_.total_s = static_cast<double>(now_ms_) / 1000;
+}
+
+JobTiming time_ebb_job(const Job& job) {
+  EbbTimer timer;
   for (const JobLine& l : job.lines) timer.feed(l.text, l.host_only, l.pause);
   return timer.finish();
 }

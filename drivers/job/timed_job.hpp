@@ -10,6 +10,7 @@
 // all read these times (JobLine::done_s), so they agree with each other; the real grbl
 // firmware checks them in tests/firmware.
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string_view>
 #include <vector>
@@ -76,9 +77,25 @@ class HpglTimer {
   bool down_ = false, absolute_ = true;
 };
 
-// A whole job. O(lines * planner blocks) / O(lines + points).
+// EiBotBoard commands, one line at a time: the firmware runs its FIFO back to back, so a
+// line is done when every SM before it has run its milliseconds and every SP its delay
+// (a host that keeps the FIFO full, as the EBB streamer does). O(1) per line.
+class EbbTimer {
+ public:
+  void feed(std::string_view line, bool host_only = false, bool pause = false);
+  size_t lines() const { return t_.done_s.size(); }
+  JobTiming finish() { return t_; }
+
+ private:
+  JobTiming t_;
+  int64_t now_ms_ = 0;
+  bool moving_ = false;
+};
+
+// A whole job. O(lines * planner blocks) / O(lines + points) / O(lines).
 JobTiming time_gcode_job(const Job& job, const motion::GrblSettings& machine, const GcodeLink& link = {});
 JobTiming time_hpgl_job(const Job& job, const motion::HpglMotion& plotter);
+JobTiming time_ebb_job(const Job& job);
 
 // Writes the timing into the job: each line's done_s and est_s, and est_total_s.
 void apply_timing(Job& job, const JobTiming& t);

@@ -13,6 +13,11 @@ std::string hexid(int vid, int pid) {
   std::snprintf(b, sizeof b, "%04x:%04x", vid & 0xffff, pid & 0xffff);
   return b;
 }
+// Microchip's id for the EiBotBoard (AxiDraw, NextDraw, EggBot): said, so the user knows
+// which profiles fit.
+std::string known_board(int vid, int pid) {
+  return vid == 0x04d8 && pid == 0xfd92 ? "  [EiBotBoard: AxiDraw, --profile axidraw-v3|axidraw-v3-a3|axidraw-minikit]" : "";
+}
 bool plausible_serial(const SerialPortInfo& p) {
   if (p.transport == "usb") return true;
   return p.name.find("ttyACM") != std::string::npos || p.name.find("ttyUSB") != std::string::npos;
@@ -64,7 +69,7 @@ std::string format_devices(const DeviceList& d) {
     for (const auto& p : d.serial) {
       if (p.vid >= 0)
         std::snprintf(line, sizeof line, "  %-16s usb %s  %s %s%s\n", p.name.c_str(), hexid(p.vid, p.pid).c_str(),
-                      p.manufacturer.c_str(), p.product.c_str(), plausible_serial(p) ? "" : "");
+                      p.manufacturer.c_str(), p.product.c_str(), known_board(p.vid, p.pid).c_str());
       else
         std::snprintf(line, sizeof line, "  %-16s %s  %s\n", p.name.c_str(), p.transport.c_str(), p.description.c_str());
       s += line;

@@ -180,7 +180,8 @@ class GcodeEmitter {
         dwell(p_.motion.pen_drop_s);
         break;
       case PenMethod::hpgl:
-        throw std::logic_error("G-code writer given an HPGL profile");
+      case PenMethod::ebb:
+        throw std::logic_error("G-code writer given an HPGL or EBB profile");
     }
     down_ = true;
   }
@@ -204,7 +205,8 @@ class GcodeEmitter {
         dwell(p_.motion.pen_lift_s);
         break;
       case PenMethod::hpgl:
-        throw std::logic_error("G-code writer given an HPGL profile");
+      case PenMethod::ebb:
+        throw std::logic_error("G-code writer given an HPGL or EBB profile");
     }
     down_ = false;
   }

@@ -43,12 +43,13 @@ void register_export(CLI::App& app) {
       "To export an image, run a method with -o x.gcode / -o x.hpgl directly.\n"
       "Examples:\n"
       "  stipplot export drawing.svg --profile grbl-servo -o drawing.gcode\n"
+      "  stipplot export drawing.svg --profile axidraw-v3 -o drawing.ebb   (AxiDraw: EiBotBoard commands)\n"
       "  stipplot export drawing.svg --profile hp7475a-a4 -o drawing.hpgl --optimize-effort 2\n"
       "  stipplot export drawing.svg --profile hp7475a-a4 -o drawing.hpgl --fit --margin 15mm\n"
       "  stipplot export drawing.svg --profile hp7475a-a4 -o two.hpgl --layer 2 --pen-map red=3\n"
       "  stipplot export drawing.svg -o planned.svg --show-travel");
   cmd->add_option("input", args->input, "Input SVG")->required();
-  cmd->add_option("-o,--output", args->output, "Output: .gcode, .hpgl, or .svg (the planned order)")->required()->group("Output");
+  cmd->add_option("-o,--output", args->output, "Output: .gcode, .hpgl, .ebb (EiBotBoard), or .svg (the planned order)")->required()->group("Output");
   cmd->add_option("--profile", args->profile, "Device profile NAME or PATH (see `stipplot profiles`)")
       ->capture_default_str()->group("Output");
   cmd->add_flag("--show-travel", args->show_travel, "Planned SVG: add the pen-up travel as a hidden layer")->group("Output");

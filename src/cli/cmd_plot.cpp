@@ -30,6 +30,8 @@
 #include "drivers/job/segments.hpp"
 #include "drivers/job/timed_job.hpp"
 #include "drivers/stream/grbl/machine_settings.hpp"
+#include "drivers/job/ebb_reader.hpp"
+#include "drivers/stream/ebb/streamer.hpp"
 #include "drivers/stream/grbl/streamer.hpp"
 #include "drivers/stream/hpgl/streamer.hpp"
 #include "drivers/stream/journal.hpp"
@@ -138,6 +140,7 @@ struct PlotJob {
   io::GcodePenRule pen_rule;
   io::Job job;
   bool grbl() const { return prepared.dialect == io::Dialect::GCode; }
+  bool ebb() const { return prepared.dialect == io::Dialect::Ebb; }
   size_t start() const { return resuming ? static_cast<size_t>(resume_state.last_acked + 1) : 0; }
 };
 
@@ -178,8 +181,14 @@ PlotJob load_job(PlotArgs& A) {
   const std::string text = read_file(path);
   pj.hash = hex(io::fnv1a64(text));
   pj.device = plot_profile(pj.prepared.profile.empty() ? A.profile : pj.prepared.profile, pj.prepared.dialect);
+  if (pj.ebb() != (pj.device.protocol == Protocol::ebb))
+    throw UserError("job " + path + (pj.ebb() ? " holds EiBotBoard commands" : " is not an EiBotBoard job") +
+                    " and profile " + pj.device.name + " is " +
+                    (pj.ebb() ? "not an EBB machine" : "an EBB machine") + ": choose a profile for this job");
   pj.pen_rule = gcode_pen_rule(pj.device);
-  pj.job = pj.grbl() ? io::parse_gcode_job(text, pj.pen_rule) : io::parse_hpgl_job(text);
+  pj.job = pj.ebb()    ? io::parse_ebb_job(text, pj.device.ebb.steps_per_mm)
+           : pj.grbl() ? io::parse_gcode_job(text, pj.pen_rule)
+                       : io::parse_hpgl_job(text);
   if (pj.job.lines.empty()) throw UserError("job " + path + " has no lines to plot");
   // A job file for a named machine must stay inside its travel (an SVG's plan was checked
   // when it was written).
@@ -191,6 +200,8 @@ PlotJob load_job(PlotArgs& A) {
   // The timed plan: the ETA counts down the machine's own time (pauses take none).
   if (pj.grbl()) {
     io::apply_timing(pj.job, io::time_gcode_job(pj.job, grbl_settings_for(pj.device), gcode_link_of(pj.device)));
+  } else if (pj.ebb()) {
+    io::apply_timing(pj.job, io::time_ebb_job(pj.job));
   } else {
     io::apply_timing(pj.job, io::time_hpgl_job(pj.job, hpgl_motion_for(pj.device)));
   }
@@ -213,6 +224,9 @@ PlotLink open_link(const PlotArgs& A, const PlotJob& pj) {
     link.port = io::open_port(link.port_name, dev.serial.port);
     return link;
   }
+  if (pj.ebb())
+    throw UserError("--sim has no EiBotBoard simulator in process: plot on the board's port (or on the EBB firmware "
+                    "simulator over a pty, tests/ebb/README.md)");
   const sim::SimRun run{A.sim_speedup, {A.sim_baud, A.sim_latency_ms}, {}};
   if (pj.grbl()) {
     sim::GrblSimConfig c = sim::grbl_sim_config(dev);
@@ -408,7 +422,7 @@ io::ResumePlan resume_plan(const PlotArgs& A, const PlotJob& pj, const io::Devic
 // nothing to journal, since nothing answers.
 void write_to_sink(const PlotArgs& A, const PlotJob& pj, io::Transport& sink, std::chrono::steady_clock::time_point t0) {
   if (pj.resuming) throw UserError(sink.describe() + " never answers: there is nothing to resume; write the whole job again");
-  const std::string eol = pj.grbl() || pj.device.serial.newline ? "\n" : "";
+  const std::string eol = pj.ebb() ? "\r" : pj.grbl() || pj.device.serial.newline ? "\n" : "";
   size_t lines = 0, bytes = 0;
   for (const auto& l : pj.job.lines) {
     if (l.host_only) continue;  // HPGL pause comments: for the host, never the device
@@ -483,6 +497,24 @@ io::StreamResult run_hpgl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
   return st.stream(pj.job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
 
+// EBB: connect (V), on --resume go on from the board's own position and pen, stream.
+io::StreamResult run_ebb(const PlotArgs& A, const PlotJob& pj, io::Transport& port, io::Journal& journal,
+                         PlotProgress& progress, nlohmann::json& summary) {
+  io::ebb::Options o = io::ebb::options_for(pj.device);
+  o.log = [&A](const std::string& s) { A.log(s); };
+  o.on_pause = [&A](const io::PauseRequest& p) { return answer_pause(A, p); };
+  io::ebb::Streamer st(port, o);
+  st.connect();
+  summary["firmware"] = st.firmware().text;
+  io::ResumePlan rp{pj.start(), {}, {}, 0, {}};
+  if (pj.resuming) {
+    rp = st.resume(pj.job, pj.resume_state, pj.device.ebb.steps_per_mm);
+    if (!rp.note.empty()) A.log(rp.note);
+    summary["resume"] = {{"from_line", rp.next + 1}, {"redraw_mm", 0.0}, {"why", rp.why}};
+  }
+  return st.stream(pj.job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
+}
+
 // What the simulator drew: compared with the job, and rendered as it lies on the paper.
 void render_sim_record(const PlotArgs& A, const PlotJob& pj, sim::SimDevice& simdev, nlohmann::json& s) {
   simdev.wait_idle(600);
@@ -552,7 +584,9 @@ void plot(PlotArgs& A) {
   s["lines"] = pj.job.lines.size();
   io::StreamResult res;
   try {
-    res = pj.grbl() ? run_grbl(A, pj, *link.port, *journal, progress, s) : run_hpgl(A, pj, *link.port, *journal, progress, s);
+    res = pj.grbl()  ? run_grbl(A, pj, *link.port, *journal, progress, s)
+          : pj.ebb() ? run_ebb(A, pj, *link.port, *journal, progress, s)
+                     : run_hpgl(A, pj, *link.port, *journal, progress, s);
   } catch (const UserError& e) {
     progress.finish(false);
     std::string hint = journal->last_acked() >= 0
@@ -588,17 +622,19 @@ void register_plot(CLI::App& app) {
   auto a = std::make_shared<PlotArgs>();
   CLI::App* cmd = app.add_subcommand("plot", "Plot a job on a plotter or the simulated plotter");
   cmd->footer(
-      "IN is a .gcode/.nc (grbl) or .hpgl/.plt job, or an SVG (laid out and planned as export does).\nWithout --port or --sim the one plausible device\n"
+      "IN is a .gcode/.nc (grbl), .hpgl/.plt or .ebb (EiBotBoard: AxiDraw, profiles axidraw-*) job, or an SVG\n"
+      "(laid out and planned as export does). Without --port or --sim the one plausible device\n"
       "(`stipplot devices`) is used. Ctrl-C pauses (feed hold, pen lifted) and asks whether to resume or\n"
       "abort. The journal IN.journal records every line the device acknowledged; after a disconnect,\n"
       "power loss or abort, `stipplot plot --resume IN` lifts the pen, travels to where it stopped and\n"
       "continues. --sim plots on the in-process simulator (over a pty) and writes IN.sim.png/.svg.\n"
       "Examples: stipplot plot job.gcode --sim\n"
       "          stipplot plot job.gcode --port /dev/ttyUSB0 --check\n"
-      "          stipplot plot --resume job.gcode --port /dev/ttyUSB0");
-  cmd->add_option("input", a->input, "Job file (.gcode, .hpgl)");
+      "          stipplot plot --resume job.gcode --port /dev/ttyUSB0\n"
+      "          stipplot plot photo.svg --profile axidraw-v3 --port /dev/ttyACM0   (an AxiDraw's EBB)");
+  cmd->add_option("input", a->input, "Job file (.gcode, .hpgl, .ebb) or SVG");
   cmd->add_option("--profile", a->profile, "Device profile (name or PATH): serial settings, handshake, pen, motion");
-  cmd->add_option("--job", a->job_out, "Where to write the job planned from an SVG (default: IN with .gcode/.hpgl)");
+  cmd->add_option("--job", a->job_out, "Where to write the job planned from an SVG (default: IN with .gcode/.hpgl/.ebb)");
   cmd->add_option("--port", a->port, "Serial port (/dev/ttyUSB0, COM3), usb:VID:PID, or file:PATH");
   cmd->add_flag("--sim", a->sim, "Plot on the in-process simulated plotter");
   cmd->add_option("--resume", a->resume, "Continue job JOB from its journal (JOB.journal)");

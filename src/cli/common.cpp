@@ -74,22 +74,29 @@ std::optional<OutputKind> kind_of_file(const std::string& path) {
   if (e == ".svg") return OutputKind::svg;
   if (e == ".gcode" || e == ".nc" || e == ".ngc" || e == ".gc" || e == ".g") return OutputKind::gcode;
   if (e == ".hpgl" || e == ".plt" || e == ".hpg" || e == ".hgl") return OutputKind::hpgl;
+  if (e == ".ebb") return OutputKind::ebb;
   return std::nullopt;
 }
 
 OutputKind output_kind(const std::string& path, const std::string& option) {
   if (auto k = kind_of_file(path)) return *k;
   throw UserError(option + " " + path + ": unknown output type '" + lower_extension(path) +
-                  "' (use .svg, .gcode or .hpgl)");
+                  "' (use .svg, .gcode, .hpgl or .ebb)");
 }
 
 void check_profile_for(OutputKind kind, const std::string& path, const std::string& profile_name) {
   if (kind == OutputKind::svg) return;
   DeviceProfile prof = find_profile(profile_name);
-  if (kind == OutputKind::gcode && prof.protocol != Protocol::grbl)
-    throw UserError("-o " + path + ": profile " + prof.name + " is an HPGL plotter; write .hpgl or use a grbl profile");
-  if (kind == OutputKind::hpgl && prof.protocol != Protocol::hpgl)
-    throw UserError("-o " + path + ": profile " + prof.name + " speaks G-code; write .gcode or use an HPGL profile");
+  static const char* kExt[] = {"", ".gcode", ".hpgl", ".ebb"};
+  static const char* kWhat[] = {"", "speaks G-code (grbl)", "is an HPGL plotter", "is an EiBotBoard (AxiDraw) machine"};
+  const OutputKind wants = prof.protocol == Protocol::grbl ? OutputKind::gcode
+                           : prof.protocol == Protocol::hpgl ? OutputKind::hpgl
+                                                              : OutputKind::ebb;
+  if (kind != wants) {
+    const int w = static_cast<int>(wants);
+    throw UserError("-o " + path + ": profile " + prof.name + " " + kWhat[w] + "; write " + kExt[w] +
+                    " or choose a profile for this file type");
+  }
 }
 
 PlanOptions plan_options_for(const DeviceProfile& profile, const Page& page, const PlanArgs& plan_args) {
@@ -107,6 +114,9 @@ void write_plan_file(const Plan& plan, const std::string& path, const DeviceProf
     if (plan_summary) timed.apply(*plan_summary);
   } else if (kind == OutputKind::hpgl) {
     write_hpgl_file(plan, profile, path, timed.hpgl_options());
+    if (plan_summary) timed.apply(*plan_summary);
+  } else if (kind == OutputKind::ebb) {
+    write_ebb_file(plan, profile, path, timed.ebb_options());
     if (plan_summary) timed.apply(*plan_summary);
   } else {
     // the planned order is only checked against the device when it goes to one
@@ -129,8 +139,8 @@ Plan write_planned_output(const Drawing& d, const std::string& path, const std::
   auto t1 = std::chrono::steady_clock::now();
   summary["output"] = path;
   summary["profile"] = prof.name;
-  // A G-code job ends with the pen back at machine zero, an HPGL job where it stops.
-  summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin, kind == OutputKind::gcode));
+  // A G-code or EBB job ends with the pen back at machine zero, an HPGL job where it stops.
+  summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin, kind == OutputKind::gcode || kind == OutputKind::ebb));
   write_plan_file(plan, path, prof, show_travel, &summary["plan"]);
   summary["seconds_plan"] = plan_s;
   // Only a tripped --optimize-seconds cap makes the plan depend on the machine's speed.

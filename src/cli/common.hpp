@@ -42,7 +42,7 @@ void require_png_path(const std::string& option, const std::string& path);
 
 // Output kinds by extension: a Drawing as SVG, or planned for a device as G-code/HPGL
 // (or, for export, the planned order as SVG).
-enum class OutputKind { svg, gcode, hpgl };
+enum class OutputKind { svg, gcode, hpgl, ebb };
 // By extension, case-insensitive (.svg; .gcode .nc .ngc .gc .g; .hpgl .plt .hpg .hgl);
 // nullopt for anything else. The one list both writing (-o) and plotting use.
 std::optional<OutputKind> kind_of_file(const std::string& path);

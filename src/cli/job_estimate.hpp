@@ -9,6 +9,7 @@
 #include "drivers/device/profile.hpp"
 #include "drivers/job/timed_job.hpp"
 #include "drivers/writers/gcode_writer.hpp"
+#include "drivers/writers/ebb_writer.hpp"
 #include "drivers/writers/hpgl_writer.hpp"
 
 namespace stipplot::cli {
@@ -18,6 +19,7 @@ class JobEstimate {
   explicit JobEstimate(const DeviceProfile& profile);
   GcodeOptions gcode_options();  // writer options that feed the timer
   HpglOptions hpgl_options();
+  EbbOptions ebb_options();
   // Sets plan.total.seconds and plan.layers[i].seconds from the timed lines, and adds
   // total.stops (times the machine comes to rest). O(lines).
   void apply(nlohmann::json& plan_summary);
@@ -25,6 +27,7 @@ class JobEstimate {
  private:
   std::unique_ptr<io::GcodeTimer> gcode_;
   std::unique_ptr<io::HpglTimer> hpgl_;
+  std::unique_ptr<io::EbbTimer> ebb_;
   std::vector<size_t> layer_first_;  // timed line index where each layer starts
   size_t lines() const;
 };

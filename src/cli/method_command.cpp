@@ -203,7 +203,7 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
   a.profile_option =
       cmd->add_option("--profile", a.profile,
                       "Device profile NAME or PATH (see `stipplot profiles`): the plotter the --time budget is for, "
-                      "the writer of .gcode/.hpgl, whose sheet is the default page when named or written for")
+                      "the writer of .gcode/.hpgl/.ebb, whose sheet is the default page when named or written for")
           ->capture_default_str()->group("Output");
   cmd->add_option("--time", a.time,
                   "Plot-time budget on --profile (45min, 1h, 1.5h, 1h30min): the density is chosen so the planned "
@@ -436,7 +436,7 @@ void MethodCommand::run() const {
   // plot time (a layout for the device moves and turns the drawing, which keeps it).
   const auto t2 = std::chrono::steady_clock::now();
   const Plan plan = plan_drawing(r.drawing, po);
-  const PlanStats stats = plan_stats(plan, prof.motion, po.origin, output_kind(a.output) == OutputKind::gcode);
+  const PlanStats stats = plan_stats(plan, prof.motion, po.origin, output_kind(a.output) == OutputKind::gcode || output_kind(a.output) == OutputKind::ebb);
   nlohmann::json s = r.summary;
   s["command"] = name_;
   s["input"] = a.input;

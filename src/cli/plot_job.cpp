@@ -16,11 +16,20 @@ bool is_job_file(const std::string& path) {
 }
 
 io::Dialect dialect_of(const std::string& path) {
-  return kind_of_file(path) == OutputKind::hpgl ? io::Dialect::Hpgl : io::Dialect::GCode;
+  const auto k = kind_of_file(path);
+  return k == OutputKind::hpgl ? io::Dialect::Hpgl : k == OutputKind::ebb ? io::Dialect::Ebb : io::Dialect::GCode;
 }
+
+namespace {
+io::Dialect dialect_for(const DeviceProfile& p) {
+  return p.protocol == Protocol::hpgl ? io::Dialect::Hpgl : p.protocol == Protocol::ebb ? io::Dialect::Ebb : io::Dialect::GCode;
+}
+const char* extension_of(io::Dialect d) { return d == io::Dialect::Hpgl ? ".hpgl" : d == io::Dialect::Ebb ? ".ebb" : ".gcode"; }
+}  // namespace
 
 DeviceProfile plot_profile(const std::string& name, io::Dialect dialect) {
   if (!name.empty()) return find_profile(name);
+  if (dialect == io::Dialect::Ebb) return find_profile("axidraw-v3");  // EBB jobs are in its steps
   const bool hpgl = dialect == io::Dialect::Hpgl;
   DeviceProfile p;
   p.protocol = hpgl ? Protocol::hpgl : Protocol::grbl;
@@ -42,15 +51,17 @@ DeviceProfile plot_profile(const std::string& name, io::Dialect dialect) {
 namespace {
 // write_planned_output picks the writer by the file's extension: it must be the profile's.
 void check_job_name(const std::string& path, const DeviceProfile& prof) {
-  const bool hpgl = prof.protocol == Protocol::hpgl;
+  const io::Dialect d = dialect_for(prof);
   bool ok = false;
   try {
-    ok = output_kind(path, "--job") == (hpgl ? OutputKind::hpgl : OutputKind::gcode);
+    ok = output_kind(path, "--job") != OutputKind::svg && dialect_of(path) == d;
   } catch (const UserError&) {
   }
   if (!ok)
     throw UserError("--job " + path + ": profile " + prof.name +
-                    (hpgl ? " is an HPGL plotter: name the job .hpgl or .plt" : " speaks G-code: name the job .gcode or .nc"));
+                    (d == io::Dialect::Hpgl  ? " is an HPGL plotter: name the job .hpgl or .plt"
+                     : d == io::Dialect::Ebb ? " is an EiBotBoard machine: name the job .ebb"
+                                             : " speaks G-code: name the job .gcode or .nc"));
 }
 }  // namespace
 
@@ -61,7 +72,7 @@ PreparedJob prepare_job(const PlotJobRequest& r) {
     return {r.input, dialect_of(r.input), r.profile, {}};
   }
   if (!has_extension(r.input, ".svg"))
-    throw UserError("plot takes an SVG drawing or a .gcode/.hpgl job; for an image, run a method first (e.g. "
+    throw UserError("plot takes an SVG drawing or a .gcode/.hpgl/.ebb job; for an image, run a method first (e.g. "
                     "stipplot stipple photo.jpg -o photo.svg) and plot the SVG");
   const std::string profile = r.profile.empty() ? kDefaultProfile : r.profile;
   DeviceProfile prof = find_profile(profile);
@@ -73,14 +84,13 @@ PreparedJob prepare_job(const PlotJobRequest& r) {
   std::string note;
   d = lay_out_for_device(std::move(d), r.layout, &prof, -1, plan_summary, note);
   if (d.primitive_count() == 0) throw UserError(r.input + ": nothing left to plot on the sheet (" + note + ")");
-  const bool hpgl = prof.protocol == Protocol::hpgl;
-  std::string path = r.job_out.empty()
-                         ? std::filesystem::path(r.input).replace_extension(hpgl ? ".hpgl" : ".gcode").string()
-                         : r.job_out;
+  const io::Dialect dialect = dialect_for(prof);
+  std::string path = r.job_out.empty() ? std::filesystem::path(r.input).replace_extension(extension_of(dialect)).string()
+                                       : r.job_out;
   if (!r.job_out.empty()) check_job_name(path, prof);
   write_planned_output(d, path, profile, r.plan, false, plan_summary);
   commit_staged_outputs();  // streamed from the file
-  return {path, hpgl ? io::Dialect::Hpgl : io::Dialect::GCode, prof.name, note};
+  return {path, dialect, prof.name, note};
 }
 
 }  // namespace stipplot::cli

@@ -18,8 +18,8 @@ TEST_CASE("stipplot profiles lists every shipped profile, name first", "[profile
   std::string line;
   std::vector<std::string> names;
   while (std::getline(in, line)) names.push_back(line.substr(0, line.find(' ')));
-  CHECK(names == std::vector<std::string>{"grbl-laser", "grbl-servo", "grbl-z", "hp7475a-a3", "hp7475a-a4",
-                                          "roland-dxy1300"});
+  CHECK(names == std::vector<std::string>{"axidraw-minikit", "axidraw-v3", "axidraw-v3-a3", "grbl-laser", "grbl-servo",
+                                          "grbl-z", "hp7475a-a3", "hp7475a-a4", "roland-dxy1300"});
   out = test::run_cli_merged("profiles --json", status);
   CHECK(status == 0);
   CHECK(out.find("\"name\":\"hp7475a-a4\"") != std::string::npos);

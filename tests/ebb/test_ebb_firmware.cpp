@@ -1,0 +1,300 @@
+// AxiDraw jobs on the EBB's own firmware (ebb_sim, ebb_sim.hpp): what it drew, rebuilt
+// from its step and pen events, against the plan; its motion time against the estimate;
+// streaming over a pty with `stipplot plot`, a dropped link and --resume.
+#include <catch2/catch.hpp>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "drivers/job/ebb_reader.hpp"
+#include "drivers/job/timed_job.hpp"
+#include "drivers/stream/ebb/streamer.hpp"
+#include "drivers/transport/posix_serial.hpp"
+#include "ebb/ebb_sim.hpp"
+#include "test_util.hpp"
+
+namespace {
+
+nlohmann::json ebb_last_json(const std::string& out) {
+  const auto end = out.find_last_not_of('\n');
+  if (end == std::string::npos) return {};
+  const auto start = out.rfind('\n', end);
+  const size_t from = start == std::string::npos ? 0 : start + 1;
+  try {
+    return nlohmann::json::parse(out.substr(from, end + 1 - from));
+  } catch (const nlohmann::json::exception&) {
+    return {};
+  }
+}
+
+struct Exported {
+  std::string job, plan;
+  double estimate_s = 0;
+};
+
+// `stipplot ARGS -o OUT.ebb` and the same plan as an SVG (the planner is deterministic).
+Exported export_both(const std::string& args, const std::string& out) {
+  auto r = test::run_cli(args + " -o " + out + ".ebb --json");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  Exported e{out + ".ebb", out + ".plan.svg", ebb_last_json(r.out)["plan"]["total"]["seconds"].get<double>()};
+  REQUIRE(test::run_cli(args + " -q -o " + e.plan).exit_code == 0);
+  return e;
+}
+
+// A motor step moves the pen 1/160 mm along x and along y (80 steps/mm of x + y and of
+// x - y): a pen within one step of a line on both motors is within 0.0125 mm of it.
+constexpr double kStep = 0.0125;
+
+// Every mark once, in order: within one step of the job's SM moves (the firmware steps each
+// motor at its own constant rate, so between the ends of a move either motor may lag the
+// straight line by up to a step), and within one and a half steps of the plan (the job's
+// move ends are the plan's points rounded to whole motor steps: half a step more).
+void check_drawn_as_planned(const Exported& e, const ebbtest::SimLog& log) {
+  const auto job = ebbtest::job_marks(e.job, 80);
+  const auto as_sent = ebbtest::compare_marks(job, log.marks, kStep);
+  INFO(as_sent.why << "; worst " << as_sent.worst << " mm from the job's moves over " << as_sent.plan_marks << " marks");
+  CHECK(as_sent.ok);
+  const auto plan = ebbtest::planned_strokes(e.plan);
+  const auto cmp = ebbtest::compare_marks(plan, log.marks, 1.5 * kStep);
+  INFO(cmp.why << "; worst " << cmp.worst << " mm from the plan over " << cmp.plan_marks << " marks");
+  CHECK(cmp.ok);
+  CHECK(log.m1 == 0);  // back home, to the step
+  CHECK(log.m2 == 0);
+  // Nothing drawn twice or left out: the pen-down steps are the job's, to the step.
+  CHECK(log.down_steps == ebbtest::job_down_steps(e.job));
+  WARN("marks " << cmp.drawn_marks << "/" << cmp.plan_marks << ", worst distance from the job's moves " << as_sent.worst
+                << " mm, from the plan " << cmp.worst << " mm; pen-down steps " << log.down_steps << " (job "
+                << ebbtest::job_down_steps(e.job) << "); firmware motion ends at " << log.last_step_s
+                << " s, estimate " << e.estimate_s << " s");
+}
+
+}  // namespace
+
+TEST_CASE("EBB firmware draws foreign.svg on axidraw-v3 as planned, in the estimated time", "[ebb]") {
+  test::TempDir t;
+  const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));
+  const std::string replies = ebbtest::run_job_file(e.job, t.file("fw.log"));
+  CHECK(replies.find('!') == std::string::npos);  // no error reply
+  const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
+  check_drawn_as_planned(e, log);
+  // Commands fed back to back keep the FIFO full: the firmware's time is the job's own.
+  CHECK(log.last_step_s == Approx(e.estimate_s).epsilon(0.01));
+}
+
+TEST_CASE("EBB firmware draws a small stipple on axidraw-minikit as planned, in the estimated time", "[ebb]") {
+  test::TempDir t;
+    // A 3-minute tone stipple: 269 dots, most of them filled discs (spirals), two touches.
+  auto r = test::run_cli("stipple " + test::example("horse.png") + " --page 60x40mm --margin 3 --time 3min " +
+                         "--profile axidraw-minikit -q -o " + t.file("dots.svg"));
+  REQUIRE(r.exit_code == 0);
+  const Exported e = export_both("export " + t.file("dots.svg") + " --profile axidraw-minikit", t.file("dots"));
+  const std::string replies = ebbtest::run_job_file(e.job, t.file("fw.log"));
+  CHECK(replies.find('!') == std::string::npos);
+  const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
+  REQUIRE(log.marks.size() > 200);
+  check_drawn_as_planned(e, log);
+  CHECK(log.last_step_s == Approx(e.estimate_s).epsilon(0.01));
+}
+
+TEST_CASE("stipplot plot streams foreign.svg to the EBB firmware over a pty", "[ebb]") {
+  test::TempDir t;
+  const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));
+  ebbtest::EbbBoard board(t.file("fw.log"));
+  auto r = test::run_cli("plot " + e.job + " --profile axidraw-v3 --port " + board.port() + " --pen-change continue --json -q");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto s = ebb_last_json(r.out);
+  CHECK(s["completed"].get<bool>());
+  CHECK(s["firmware"].get<std::string>().find("3.0.2") != std::string::npos);
+  board.finish();
+  const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
+  check_drawn_as_planned(e, log);
+  // The host kept the firmware's FIFO fed: its motion took the job's own time, and no more
+  // than the same commands fed at once (the FIFO never waiting for the host) but for 0.5 %.
+  CHECK(log.last_step_s - log.first_step_s == Approx(e.estimate_s - 0.130).epsilon(0.01));
+  ebbtest::run_job_file(e.job, t.file("fed.log"));
+  const ebbtest::SimLog fed = ebbtest::read_log(t.file("fed.log"), 80);
+  const double starved = (log.last_step_s - log.first_step_s) - (fed.last_step_s - fed.first_step_s);
+  WARN("streamed over the pty: motion " << log.last_step_s - log.first_step_s << " s, fed at once "
+                                        << fed.last_step_s - fed.first_step_s << " s: the FIFO waited " << starved
+                                        << " s for the host");
+  // (The simulation runs about 80 times faster than the wall clock here, so a host pause
+  // of a few ms empties the 32-command FIFO; real time is measured below.)
+  CHECK(starved < 0.01 * (fed.last_step_s - fed.first_step_s));
+}
+
+TEST_CASE("The EBB's FIFO never waits for the host: 2,000 short segments streamed in real time", "[ebb]") {
+  test::TempDir t;
+  // A spiral of 2,000 segments of 0.25 mm (one stroke, about 10 s at 50 mm/s).
+  std::string pts;
+  double a = 0;
+  for (int i = 0; i <= 2000; ++i) {
+    const double r = 5 + 0.8 * a / (2 * M_PI);
+    pts += std::to_string(30 + r * std::cos(a)) + "," + std::to_string(30 + r * std::sin(a)) + " ";
+    a += 0.25 / r;
+  }
+  std::ofstream(t.file("spiral.svg")) << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"60mm\" height=\"60mm\" "
+                                         "viewBox=\"0 0 60 60\"><polyline fill=\"none\" stroke=\"black\" points=\""
+                                      << pts << "\"/></svg>\n";
+  const Exported e = export_both("export " + t.file("spiral.svg") + " --profile axidraw-v3 --simplify 0", t.file("spiral"));
+  ebbtest::EbbBoard board(t.file("fw.log"), true);
+  auto r = test::run_cli("plot " + e.job + " --profile axidraw-v3 --port " + board.port() + " -q");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  board.finish();
+  ebbtest::run_job_file(e.job, t.file("fed.log"));
+  const ebbtest::SimLog live = ebbtest::read_log(t.file("fw.log"), 80), fed = ebbtest::read_log(t.file("fed.log"), 80);
+  check_drawn_as_planned(e, live);
+  REQUIRE(ebbtest::planned_strokes(e.plan).front().size() > 1500);
+  const double starved = (live.last_step_s - live.first_step_s) - (fed.last_step_s - fed.first_step_s);
+  WARN("real time: motion " << live.last_step_s - live.first_step_s << " s, fed at once "
+                            << fed.last_step_s - fed.first_step_s << " s: the FIFO waited " << starved << " s");
+  CHECK(std::fabs(starved) < 0.005);  // under a fifth of one 25 ms slice in all
+}
+
+TEST_CASE("EBB streamer reads both reply syntaxes of firmware 3.0.2: legacy OK and CU,10,1", "[ebb]") {
+  const std::string text = "EM,1,1\nSP,1,130\nSM,100,800,800\nSP,0,146\nSM,100,800,0\nSP,1,130\nSM,200,-1600,-800\n";
+  const stipplot::io::Job job = stipplot::io::parse_ebb_job(text, 80);
+  for (bool standardized : {false, true}) {
+    DYNAMIC_SECTION((standardized ? "standardized" : "legacy")) {
+      test::TempDir t;
+      ebbtest::EbbBoard board(t.file("fw.log"));
+      stipplot::io::PosixSerial port(board.port(), {});
+      stipplot::io::ebb::Options o;
+      o.standardized = standardized;
+      stipplot::io::ebb::Streamer st(port, o);
+      st.connect();
+      CHECK(st.firmware().major == 3);
+      CHECK(st.position() == std::array<int64_t, 2>{0, 0});
+      const auto res = st.stream(job, 0, {}, nullptr);
+      CHECK(res.completed);
+      CHECK(res.lines_acked == job.lines.size());
+      CHECK(st.idle());
+      CHECK(st.position() == std::array<int64_t, 2>{0, 0});
+      CHECK(st.pen_up());
+      CHECK_THROWS_WITH(st.command("SC,4,70000"), Catch::Contains("!6 Err"));
+      port.close();
+      board.finish();
+      const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
+      REQUIRE(log.marks.size() == 1);
+      CHECK(log.steps == 1600 + 800 + 2400);
+    }
+  }
+}
+
+TEST_CASE("A dropped link mid-plot, then plot --resume on the powered EBB, loses nothing", "[ebb]") {
+  test::TempDir t;
+  const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));
+  for (double share : {0.25, 0.5, 0.75}) {
+    DYNAMIC_SECTION("dropped at " << share * 100 << " %") {
+      const std::string log_path = t.file("fw-" + std::to_string(static_cast<int>(share * 100)) + ".log");
+      ebbtest::EbbBoard board(log_path);
+      const size_t lines = static_cast<size_t>(test::count_lines(test::read_file(e.job)));
+      // connect() sends V, CU,10,0 and CU,4: the job's lines follow.
+      board.drop_after_commands(3 + static_cast<size_t>(share * static_cast<double>(lines)));
+      auto first = test::run_cli("plot " + e.job + " --profile axidraw-v3 --port " + board.port() + " --pen-change continue -q");
+      CHECK(first.exit_code != 0);
+      REQUIRE(board.dropped());
+      const std::string port = board.reconnect();
+      auto second = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json -q");
+      INFO(first.err << second.err);
+      REQUIRE(second.exit_code == 0);
+      const auto s = ebb_last_json(second.out);
+      CHECK(s["completed"].get<bool>());
+      board.finish();
+      const ebbtest::SimLog log = ebbtest::read_log(log_path, 80);
+      check_drawn_as_planned(e, log);
+    }
+  }
+}
+
+TEST_CASE("The host killed (SIGKILL) mid-plot, then plot --resume on the powered EBB, loses nothing", "[ebb]") {
+  test::TempDir t;
+  const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));
+  ebbtest::EbbBoard board(t.file("fw.log"));
+  const size_t lines = static_cast<size_t>(test::count_lines(test::read_file(e.job)));
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_RDWR);
+    ::dup2(null, 0), ::dup2(null, 1), ::dup2(null, 2);
+    ::execl(STIPPLOT_BIN, STIPPLOT_BIN, "plot", e.job.c_str(), "--profile", "axidraw-v3", "--port", board.port().c_str(),
+            "--pen-change", "continue", "-q", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  REQUIRE(pid > 0);
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (board.commands() < lines / 2 && std::chrono::steady_clock::now() < give_up)
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  ::kill(pid, SIGKILL);
+  int st = 0;
+  ::waitpid(pid, &st, 0);
+  REQUIRE(WIFSIGNALED(st));  // killed mid-plot, not finished
+  const std::string port = board.reconnect();
+  auto r = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json -q");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(ebb_last_json(r.out)["completed"].get<bool>());
+  board.finish();
+  check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));
+}
+
+TEST_CASE("EBB bad input: a port where no EBB answers V is refused", "[ebb]") {
+  test::TempDir t;
+  // A port where nothing answers V.
+  const int m = ::posix_openpt(O_RDWR | O_NOCTTY);
+  REQUIRE(m >= 0);
+  REQUIRE(::grantpt(m) == 0);
+  REQUIRE(::unlockpt(m) == 0);
+  const std::string silent = ::ptsname(m);
+  const std::string ok_job = t.file("ok.ebb");
+  std::ofstream(ok_job) << "EM,1,1\nSP,1,130\nSM,100,800,800\nSP,0,146\nSM,100,800,0\nSP,1,130\nSM,200,-1600,-800\n";
+  auto r = test::run_cli("plot " + ok_job + " --profile axidraw-v3 --port " + silent + " -q");
+  ::close(m);
+  INFO(r.err);
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("does not answer V as an EiBotBoard") != std::string::npos);
+  CHECK(test::count_lines(r.err) == 1);
+}
+
+TEST_CASE("EBB bad input: a job outside the travel is refused before anything is sent", "[ebb]") {
+  test::TempDir t;
+  // Outside the 300 x 218 mm travel.
+  const std::string far_job = t.file("far.ebb");
+  std::ofstream(far_job) << "EM,1,1\nSP,1,130\nSM,1000,25000,25000\n";
+  {
+    ebbtest::EbbBoard board(t.file("far.log"));
+    auto r = test::run_cli("plot " + far_job + " --profile axidraw-v3 --port " + board.port());
+    CHECK(r.exit_code == 1);
+    CHECK(r.err.find("outside the travel") != std::string::npos);
+    CHECK(board.commands() == 0);
+    board.finish();
+  }
+}
+
+TEST_CASE("EBB bad input: an error reply stops the plot before the pen moves", "[ebb]") {
+  test::TempDir t;
+  // The firmware refuses a command: "!6 Err: Invalid parameter value".
+  const std::string bad_job = t.file("bad.ebb");
+  std::ofstream(bad_job) << "EM,1,1\nSC,4,70000\nSP,1,130\nSM,100,800,800\n";
+  {
+    ebbtest::EbbBoard board(t.file("bad.log"));
+    auto r = test::run_cli("plot " + bad_job + " --profile axidraw-v3 --port " + board.port() + " -q");
+    INFO(r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(r.err.find("!6 Err: Invalid parameter value") != std::string::npos);
+    board.finish();
+    const ebbtest::SimLog log = ebbtest::read_log(t.file("bad.log"), 80);
+    CHECK(log.steps == 0);  // stopped before the pen moved
+  }
+}

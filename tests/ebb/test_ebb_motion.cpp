@@ -1,0 +1,155 @@
+// The EBB's profiles, job reader, SM slicing and firmware check, without the firmware.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdlib>
+
+#include "drivers/device/profile.hpp"
+#include "drivers/job/ebb_reader.hpp"
+#include "drivers/job/timed_job.hpp"
+#include "drivers/motion/ebb_motion.hpp"
+#include "drivers/stream/ebb/streamer.hpp"
+#include "drivers/transport/devices.hpp"
+#include "drivers/writers/ebb_writer.hpp"
+#include "util/error.hpp"
+
+using namespace stipplot;
+
+TEST_CASE("AxiDraw profiles carry axidraw_conf's numbers and axicli's pen", "[ebb]") {
+  const DeviceProfile v3 = find_profile("axidraw-v3");
+  CHECK(v3.protocol == Protocol::ebb);
+  CHECK(v3.machine.travel_x_mm == Approx(11.81 * 25.4).margin(0.01));
+  CHECK(v3.machine.travel_y_mm == Approx(8.58 * 25.4).margin(0.01));
+  CHECK(v3.ebb.steps_per_mm == 80);  // 2032 steps/inch
+  CHECK(v3.motion.speed_down_mm_s == Approx(25 * 8.6979 / 110 * 25.4).epsilon(1e-3));
+  CHECK(v3.motion.speed_up_mm_s == Approx(75 * 8.6979 / 110 * 25.4).epsilon(1e-3));
+  const EbbPen pen = ebb_pen(v3.pen, v3.ebb);
+  CHECK(pen.up == 20641);  // 9855 + 179.76 * 60
+  CHECK(pen.down == 15248);
+  CHECK(pen.rate_up == 1618);
+  CHECK(pen.rate_down == 1079);
+  CHECK(pen.raise_ms == 130);  // axicli pen_handling: ((2.69*30+45)^4 + (200*30/75)^4)^(1/4)
+  CHECK(pen.lower_ms == 146);
+  CHECK(v3.motion.pen_lift_s == Approx(0.130));
+  CHECK(find_profile("axidraw-v3-a3").machine.travel_x_mm == Approx(16.93 * 25.4).margin(0.01));
+  CHECK(find_profile("axidraw-minikit").machine.travel_y_mm == Approx(101.6));
+}
+
+TEST_CASE("An EBB profile refuses speeds past the firmware's step rate", "[ebb]") {
+  std::string text = R"(name = "fast"
+description = "x"
+protocol = "ebb"
+[machine]
+travel_x_mm = 300
+travel_y_mm = 200
+origin = "top-left"
+x_sign = 1
+y_sign = 1
+origin_offset_x_mm = 0
+origin_offset_y_mm = 0
+resolution_mm = 0.0125
+[motion]
+speed_down_mm_s = 50
+speed_up_mm_s = 400
+accel_mm_s2 = 700
+junction_deviation_mm = 0.02
+lookahead_blocks = 64
+[pen]
+method = "ebb-servo"
+count = 1
+pos_up_pct = 60
+pos_down_pct = 30
+rate_raise_pct = 75
+rate_lower_pct = 50
+delay_up_ms = 0
+delay_down_ms = 0
+dot_dwell_s = 0
+[ebb]
+steps_per_mm = 80
+servo_min = 9855
+servo_max = 27831
+servo_sweep_ms = 200
+servo_move_min_ms = 45
+servo_move_slope_ms = 2.69
+servo_pwm_period = 0.24
+time_slice_ms = 25
+fifo_commands = 32
+[serial]
+baud = 115200
+flow_control = "none"
+rx_buffer_bytes = 64
+newline = false
+)";
+  REQUIRE_THROWS_WITH(parse_profile(text, "fast.toml"), Catch::Contains("25 kHz"));
+  text.replace(text.find("speed_up_mm_s = 400"), 19, "speed_up_mm_s = 150");
+  CHECK(parse_profile(text, "ok.toml").motion.pen_drop_s == Approx(0.146));
+}
+
+TEST_CASE("SM slices end exactly on the plan's step positions within the firmware's rate", "[ebb]") {
+  const DeviceProfile p = find_profile("axidraw-v3");
+  const motion::EbbGeometry g{80};
+  // A zigzag of long and very short segments, then back: rounding must not accumulate.
+  std::vector<Vec2> pts{{0, 0}};
+  for (int i = 0; i < 400; ++i) pts.push_back({pts.back().x + (i % 3 == 0 ? 0.013 : 1.7), pts.back().y + (i % 2 ? 0.9 : -0.4)});
+  std::vector<motion::MotionBlock> blocks;
+  const double planned = motion::polyline_seconds(pts, p.motion.speed_down_mm_s, p.motion, &blocks);
+  motion::MotorSteps at{0, 0};
+  int64_t clock = 0;
+  std::vector<motion::EbbMove> moves;
+  motion::slice_blocks(blocks, g, p.motion.accel_mm_s2, 25, at, clock, moves);
+  int64_t m1 = 0, m2 = 0, ms = 0;
+  for (const auto& m : moves) {
+    REQUIRE(motion::ebb_move_ok(m));
+    REQUIRE(m.ms <= 25);
+    m1 += m.s1, m2 += m.s2, ms += m.ms;
+  }
+  CHECK(motion::MotorSteps{m1, m2} == g.steps(pts.back()));
+  CHECK(at == g.steps(pts.back()));
+  CHECK(ms == clock);
+  CHECK(static_cast<double>(ms) / 1000 == Approx(planned).epsilon(0.01));
+  const Vec2 end = g.mm(at);
+  CHECK(std::hypot(end.x - pts.back().x, end.y - pts.back().y) <= 0.5 * std::sqrt(2.0) / 80 + 1e-12);
+}
+
+TEST_CASE("EBB job reader tracks motors, pen and the firmware's time", "[ebb]") {
+  const io::Job job = io::parse_ebb_job("EM,1,1\nSP,1,130\nSM,25,160,0\n# pause: Change pen: pen 2\nSP,0,146\nSM,10,0,80\n", 80);
+  REQUIRE(job.lines.size() == 6);
+  CHECK(job.lines[2].x == Approx(1.0));
+  CHECK(job.lines[2].y == Approx(1.0));
+  CHECK(job.lines[3].host_only);
+  CHECK(job.lines[3].pause);
+  CHECK(job.lines[4].pen_down);
+  CHECK(job.lines[5].x == Approx(1.5));
+  CHECK(job.lines[5].y == Approx(0.5));
+  const io::JobTiming t = io::time_ebb_job(job);
+  CHECK(t.total_s == Approx(0.311));
+  CHECK(t.done_s[2] == Approx(0.155));
+  CHECK_THROWS_WITH(io::parse_ebb_job("LM,1,2,3\n", 80), Catch::Contains("only SM, SP, EM, SC and CU"));
+  CHECK_THROWS_WITH(io::parse_ebb_job("SM,1,26,0\n", 80), Catch::Contains("25 per ms"));
+  CHECK_THROWS_WITH(io::parse_ebb_job("SM,5,x,0\n", 80), Catch::Contains("line 1"));
+}
+
+TEST_CASE("EBB firmware versions: 2.5 to 3.x, and what is not an EBB", "[ebb]") {
+  const auto v3 = io::ebb::parse_firmware("EBBv13_and_above EB Firmware Version 3.0.2");
+  CHECK(v3.major == 3);
+  CHECK(v3.patch == 2);
+  CHECK(io::ebb::parse_firmware("EBBv13_and_above EB Firmware Version 2.8.1").minor == 8);
+  CHECK_THROWS_WITH(io::ebb::parse_firmware("Grbl 1.1h ['$' for help]"), Catch::Contains("does not answer V as an EiBotBoard"));
+  CHECK_THROWS_WITH(io::ebb::parse_firmware("EBBv13_and_above EB Firmware Version 2.4.1"), Catch::Contains("not supported"));
+  CHECK_THROWS_WITH(io::ebb::parse_firmware("EBBv13_and_above EB Firmware Version 4.0.0"), Catch::Contains("not supported"));
+}
+
+TEST_CASE("stipplot devices names an EiBotBoard by its USB id", "[ebb]") {
+  io::DeviceList d;
+  io::SerialPortInfo p;
+  p.name = "/dev/ttyACM0";
+  p.transport = "usb";
+  p.vid = 0x04d8;
+  p.pid = 0xfd92;
+  p.product = "EiBotBoard";
+  d.serial.push_back(p);
+  const std::string s = io::format_devices(d);
+  CHECK(s.find("04d8:fd92") != std::string::npos);
+  CHECK(s.find("axidraw-v3") != std::string::npos);
+  CHECK(io::choose_port(d) == "/dev/ttyACM0");
+}
