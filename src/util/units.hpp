@@ -3,7 +3,7 @@
 // every option and for page sizes. Paper units: mm, cm, in, pt (1/72 in), px (1/96 in,
 // CSS's and SVG's pixel); a bare number is millimetres. Options that size a mark against
 // the photo (Length::parse) read "px" as an input-image pixel instead, which becomes
-// millimetres only once the image is placed on the page.
+// millimetres only once the image is placed on the page, and want the unit written.
 #include <string>
 #include <string_view>
 
