@@ -1,6 +1,7 @@
 // End-to-end: the grbl streamer against the simulated grbl, over a pty (the serial
 // transport a real port gets) and the in-process pipe, with each injected fault.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
 #include <thread>
 
@@ -349,6 +350,41 @@ TEST_CASE("grbl resume after a connect that reset grbl: the lines it ran past th
   CHECK(pen.x == Approx(30).margin(0.01));
   const ResumePlan rp = resume_from_journal(job, journal, pen, st.resume_window());
   CHECK(rp.next == 9);  // after the travel to (30, 30): nothing drawn twice
+}
+
+// Found on the real grbl firmware under load (host kill, 2 runs in 8): the host died with
+// the job's last lines in grbl's buffer, grbl ran them to the job's closing travel home and
+// stood at the origin, pen up, as a board powered on afresh does. Its parser state tells
+// them apart: a board that ran the job keeps the job's feed, a fresh one has F0.
+TEST_CASE("grbl resume: a board that ran on to the origin is not taken for a fresh one, whose parser has no feed",
+          "[drivers][grbl][resume][power]") {
+  // lines: 0 G21, 1 G90, 2 M5, 3 G0 X10 Y10, 4 M3 S30, 5 G1 X20 Y10 F600, 6 G1 X20 Y20, 7 M5, 8 G0 X0 Y0
+  const std::string text = "G21\nG90\nM5\nG0 X10 Y10\nM3 S30\nG1 X20 Y10 F600\nG1 X20 Y20\nM5\nG0 X0 Y0\n";
+  const Job job = parse_gcode_job(text);
+  REQUIRE(job.lines.size() == 9);
+  sim::GrblSim sim(fast_config());
+  const std::string path = sim.open_pty();
+  {
+    PosixSerial port(path, {});
+    grbl::Streamer fresh(port, {});
+    fresh.connect();
+    CHECK(fresh.parser_reset());  // powered on: no feed yet
+    Transport& t = port;
+    t.write(std::string_view(text));  // the dead host's last act: the whole job, unanswered
+    t.flush();
+    sim.wait_idle(10);
+  }
+  PosixSerial port(path, {});
+  grbl::Streamer st(port, {});
+  st.connect();
+  REQUIRE_FALSE(st.restarted());
+  CHECK_FALSE(st.parser_reset());  // F600 from line 5
+  const DevicePen pen = st.device_pen();
+  CHECK(std::hypot(pen.x, pen.y) < 0.01);
+  JournalState journal;
+  journal.last_acked = 4;  // the dead host heard of lines 0-4 only
+  // It ran on to the end: nothing to draw again.
+  CHECK(resume_from_journal(job, journal, pen, st.resume_window()).next == job.lines.size());
 }
 
 TEST_CASE("pause, resume and abort mid-job: the journal keeps what ran, resume draws the rest exactly", "[drivers][grbl][resume]") {

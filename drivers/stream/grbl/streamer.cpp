@@ -208,6 +208,23 @@ std::string Streamer::system_command(const std::string& cmd, Millis timeout, std
   throw TransportError(TransportError::Kind::Timeout, "no reply from grbl on " + t_.describe());
 }
 
+bool Streamer::parser_reset() {
+  std::vector<std::string> lines;
+  try {
+    if (classify_reply(system_command("$G", Millis(2000), &lines)).kind != ReplyKind::Ok) return true;
+  } catch (const TransportError& e) {
+    if (e.kind() != TransportError::Kind::Timeout) throw;
+    return true;
+  }
+  for (const std::string& line : lines) {
+    if (line.rfind("[GC:", 0) != 0) continue;
+    const size_t f = line.find(" F");
+    double feed = 0;
+    return f == std::string::npos || std::sscanf(line.c_str() + f + 2, "%lf", &feed) != 1 || feed == 0;
+  }
+  return true;
+}
+
 std::map<int, double> Streamer::read_settings() {
   std::vector<std::string> lines;
   const std::string answer = system_command("$$", Millis(5000), &lines);

@@ -80,10 +80,17 @@ class Streamer {
   // (stepper.c, SEGMENT_BUFFER_SIZE 6) may hold the tails of that many short blocks, each
   // discarded from the planner once fully prepared.
   static constexpr size_t kStepperBlocks = 6;
-  ResumeWindow resume_window() const {
+  // A board that came back fresh without the streamer seeing it restart (a power cycle
+  // before the port opened: no banner) is told by its parser state (parser_reset): then
+  // its planner and stepper count as lost. A board that ran on keeps the job's feed.
+  ResumeWindow resume_window() {
     const size_t planner = static_cast<size_t>(o_.planner_blocks);
-    return {static_cast<size_t>(o_.rx_buffer), restarted_ ? planner : 0, 1, 0, planner + kStepperBlocks};
+    const bool fresh = restarted_ || parser_reset();
+    return {static_cast<size_t>(o_.rx_buffer), restarted_ ? planner : 0, 1, 0, fresh ? planner + kStepperBlocks : 0};
   }
+  // grbl's parser state ($G) is as power-on or a reset leaves it: no feed rate (F0; the
+  // job's moves set one). True too when grbl does not say (erring towards redrawing).
+  bool parser_reset();
   // Streams job lines [start, end) after `preamble`. Throws DeviceError / TransportError;
   // the journal is synced first, so `plot --resume` can continue.
   StreamResult stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
