@@ -35,9 +35,9 @@ set(CPACK_PACKAGE_NAME stipplot)
 set(CPACK_PACKAGE_VENDOR "stipplot")
 set(CPACK_PACKAGE_CONTACT "stipplot maintainers <stipplot@localhost>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "Photographs to pen-plotter drawings, and the plotter driver")
-set(CPACK_PACKAGE_DESCRIPTION
-    "stipplot turns photographs into drawings for pen plotters (stipples, pen sketches, dendritic trees, "
-    "pointillism, tone hatching), plans them, writes SVG, G-code or HPGL and drives the plotter.")
+string(CONCAT CPACK_PACKAGE_DESCRIPTION
+  "stipplot turns photographs into drawings for pen plotters (stipples, pen sketches, dendritic trees, "
+  "pointillism, tone hatching), plans them, writes SVG, G-code or HPGL and drives the plotter.")
 set(CPACK_PACKAGE_INSTALL_DIRECTORY stipplot)
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)

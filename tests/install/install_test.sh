@@ -65,6 +65,8 @@ echo "install: $(basename "$deb"), Depends: $depends"
 for lib in libc6 libstdc++6 libopencv-core406 libopencv-imgproc406 libcairo2 libserialport0 libusb-1.0-0 libtinyxml2-9 libhersheyfont0 hershey-fonts-data zlib1g; do
   grep -q "\b$lib\b" <<<"$depends" || fail "the package's Depends lack $lib: $depends"
 done
+description=$(dpkg-deb -f "$deb" Description)
+[[ $description != *";"* ]] || fail "the package's description has a CMake list separator: $description"
 dpkg-deb -c "$deb" >"$work/contents.txt"
 for f in usr/bin/stipplot usr/share/man/man1/stipplot.1 usr/share/bash-completion/completions/stipplot \
   usr/share/stipplot/pens/fineliner12.toml usr/share/stipplot/profiles/grbl-servo.toml; do
