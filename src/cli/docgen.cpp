@@ -120,6 +120,12 @@ std::string relations(const OptionDoc& o) {
   return s;
 }
 
+// A description as a sentence: ending in a full stop.
+std::string sentence(const std::string& s) {
+  if (s.empty() || s.back() == '.' || s.back() == '!' || s.back() == '?') return s;
+  return s + ".";
+}
+
 // CLI11 puts ungrouped options in "Options": under the heading "Options" that says "General".
 std::string group_title(const std::string& group) { return group == "Options" ? "General" : group; }
 
@@ -266,7 +272,7 @@ std::string man_page(const CommandDoc& c, const CommandDoc& root, const std::str
   if (!c.subcommands.empty()) {
     man << ".SH COMMANDS\n";
     for (const auto& s : c.subcommands)
-      man << ".TP\n" << roff_bold(s.path.back()) << "\n" << roff_text(s.description) << " See "
+      man << ".TP\n" << roff_bold(s.path.back()) << "\n" << roff_text(sentence(s.description)) << " See "
           << roff_bold(man_name(s)) << "(1).\n";
   }
   if (!c.positionals.empty()) {
@@ -281,6 +287,17 @@ std::string man_page(const CommandDoc& c, const CommandDoc& root, const std::str
       if (c.groups.size() > 1) man << ".SS " << roff_text(group_title(group)) << "\n";
       for (const auto& o : opts) man_option(man, o);
     }
+  }
+  if (c.path.size() == 1) {
+    // Where the program finds what --pens NAME and --profile NAME name.
+    man << ".SH ENVIRONMENT\n.TP\n" << roff_bold("STIPPLOT_PENS")
+        << "\nA folder searched first for a palette given by name: --pens NAME reads NAME.toml.\n.TP\n"
+        << roff_bold("STIPPLOT_PROFILES") << "\nA folder searched first for a device profile given by name.\n"
+        << ".SH FILES\n.TP\n" << roff_italic("../share/stipplot/pens/*.toml")
+        << "\n" << roff_text("Beside the executable (/usr/share/stipplot/pens for /usr/bin/stipplot): the shipped "
+                              "pen palettes, by name (--pens fineliner12). A path (with a / or ending in .toml) is read as it is.")
+        << "\n.TP\n" << roff_italic("../share/stipplot/profiles/*.toml") << "\n"
+        << roff_text("The shipped device profiles, by name (--profile hp7475a-a4); stipplot profiles lists them.") << "\n";
   }
   man << ".SH SEE ALSO\n";
   std::vector<std::string> see;

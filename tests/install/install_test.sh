@@ -39,6 +39,8 @@ done
 out=$(MANWIDTH=100 man -l "$prefix/share/man/man1/stipplot-stipple.1")
 grep -q -- "--pens" <<<"$out" || fail "stipplot-stipple(1) does not list --pens"
 grep -q -- "stipplot-plot(1)" <<<"$out" || fail "stipplot-stipple(1) does not refer to stipplot-plot(1)"
+out=$(MANWIDTH=100 man -l "$prefix/share/man/man1/stipplot.1")
+grep -q "share/stipplot/pens" <<<"$out" || fail "stipplot(1) does not say where palettes are found"
 # man finds them by name in the prefix's manual.
 MANPATH=$prefix/share/man man -w stipplot-stipple >/dev/null || fail "man stipplot-stipple: not found in the prefix's MANPATH"
 echo "install: $(ls "$prefix"/share/man/man1 | wc -l) man pages render without warnings"
