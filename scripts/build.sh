@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Configures and builds into $1 (default build/) with extra CMake arguments after it.
+# Configures and builds into $1 (default build/) with extra CMake arguments after it;
+# every target, or only those in $STIPPLOT_TARGETS ("stipplot": the program alone).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=${1:-build}
@@ -7,4 +8,6 @@ shift || true
 gen=()
 command -v ninja >/dev/null && gen=(-G Ninja)
 cmake -S . -B "$dir" "${gen[@]}" "$@" >/dev/null
-cmake --build "$dir" -j "$(nproc)"
+targets=()
+for t in ${STIPPLOT_TARGETS:-}; do targets+=(--target "$t"); done
+cmake --build "$dir" -j "$(nproc)" "${targets[@]}"

@@ -5,7 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh build
-bash scripts/build.sh build
+# The program alone: not the tests and benchmarks the demo does not run.
+STIPPLOT_TARGETS=stipplot bash scripts/build.sh build
 bash scripts/install_link.sh build
 mkdir -p out
 S=./build/src/cli/stipplot

@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages stipplot needs, only those missing. Idempotent.
 #   setup.sh build   what building needs (the libraries, compilers, CMake)
 #   setup.sh test    what only the tests need: clang-14 for the fuzz targets, chromium and
-#                    playwright-core (npm) for the studio's browser test, Inkscape's examples
+#                    playwright-core (npm) for the studio's browser test, Inkscape's examples,
+#                    the install test's dpkg-dev and man-db, zsh and fish
 #   setup.sh         both
 set -euo pipefail
 what=${1:-all}
@@ -20,6 +21,8 @@ TEST=(
   inkscape  # not built against: its example drawings (/usr/share/inkscape/examples) are test inputs
   gcc-avr avr-libc binutils-avr simavr libsimavr-dev  # the firmware oracle: grbl 1.1h's AVR binary on simavr
   gcc-multilib  # the EBB oracle: ebb_sim, the EiBotBoard firmware built with gcc -m32 (C18's 32-bit long)
+  dpkg-dev file man-db  # the install test: cpack -G DEB's dpkg-shlibdeps (which reads `file`), man -l
+  zsh fish  # the generated zsh and fish completions are checked by the shells themselves
 )
 # The browser test's driver (playwright-core, tests/browser) comes from npm.
 command -v npm >/dev/null 2>&1 || TEST+=(nodejs npm)

@@ -15,6 +15,7 @@
 
 #include "geometry/page.hpp"
 #include "util/error.hpp"
+#include "util/executable.hpp"
 
 namespace stipplot {
 
@@ -371,14 +372,6 @@ DeviceProfile parse_table(const toml::table& root, const std::string& file) {
     throw UserError("profile " + file + ": unknown key " + key);
   }
   return p;
-}
-
-fs::path executable_dir() {
-  char buf[4096];
-  ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
-  if (n <= 0) return {};
-  buf[n] = '\0';
-  return fs::path(buf).parent_path();
 }
 
 }  // namespace

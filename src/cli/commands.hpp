@@ -15,5 +15,6 @@ void register_devices(CLI::App& app);
 void register_sim(CLI::App& app);
 void register_plot(CLI::App& app);
 void register_serve(CLI::App& app);
+void register_help_export(CLI::App& app);  // hidden: docs and completions from the options
 void register_all(CLI::App& app);
 }  // namespace stipplot::cli

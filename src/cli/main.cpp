@@ -21,7 +21,7 @@ std::string one_line(std::string s) {
 int main(int argc, char** argv) {
   CLI::App app{"stipplot: turn photographs into drawings for pen plotters, and drive the plotters"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "stipplot 0.1.0");
+  app.set_version_flag("--version", "stipplot " STIPPLOT_VERSION);
   stipplot::cli::register_all(app);
   // Every file a command writes is staged and appears only once the command succeeded;
   // leaving main any other way removes the temporaries.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <limits>
 #include <set>
@@ -9,6 +10,7 @@
 #include <toml++/toml.h>
 
 #include "util/error.hpp"
+#include "util/executable.hpp"
 
 namespace stipplot {
 
@@ -87,7 +89,37 @@ Palette parse_palette(const std::string& text, const std::string& source, double
   return pal;
 }
 
-Palette load_palette(const std::string& path, double default_width_mm) {
+std::vector<std::filesystem::path> palette_dirs() {
+  std::vector<std::filesystem::path> dirs;
+  if (const char* env = std::getenv("STIPPLOT_PENS"); env && *env) dirs.emplace_back(env);
+  if (const std::filesystem::path exe = executable_dir(); !exe.empty()) {
+    dirs.push_back(exe / "pens");
+    dirs.push_back(exe.parent_path() / "share" / "stipplot" / "pens");
+  }
+#ifdef STIPPLOT_PENS_DIR
+  dirs.emplace_back(STIPPLOT_PENS_DIR);
+#endif
+  return dirs;
+}
+
+std::string find_palette(const std::string& name_or_path) {
+  namespace fs = std::filesystem;
+  const std::string& s = name_or_path;
+  std::error_code ec;
+  const bool is_path = s.find('/') != std::string::npos || (s.size() > 5 && s.compare(s.size() - 5, 5, ".toml") == 0) ||
+                       fs::is_regular_file(s, ec);
+  if (is_path || s.empty()) return s;
+  std::string searched;
+  for (const fs::path& dir : palette_dirs()) {
+    const fs::path f = dir / (s + ".toml");
+    if (fs::is_regular_file(f, ec)) return f.string();
+    searched += (searched.empty() ? "" : ", ") + dir.string();
+  }
+  throw UserError("--pens " + s + ": no such file, nor a palette of that name (" + s + ".toml) in " + searched);
+}
+
+Palette load_palette(const std::string& name_or_path, double default_width_mm) {
+  const std::string path = find_palette(name_or_path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw UserError("--pens " + path + ": cannot open the file");
   std::ostringstream ss;

@@ -11,6 +11,7 @@
 //
 // Unknown keys are rejected so a typo ("colour", "widht") is not silently ignored.
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <unordered_map>
@@ -33,8 +34,19 @@ struct Palette {
 Palette parse_palette(const std::string& toml_text, const std::string& source = "palette",
                       double default_width_mm = 0.3);
 
-// Reads and parses a palette file; throws UserError if it cannot be read.
-Palette load_palette(const std::string& path, double default_width_mm = 0.3);
+// Folders searched for a palette given by name (--pens fineliner12), in order:
+// $STIPPLOT_PENS, a pens/ folder next to the executable, ../share/stipplot/pens beside
+// it (an installed stipplot), the source tree's examples/pens.
+std::vector<std::filesystem::path> palette_dirs();
+
+// The file --pens means: PATH itself when it is a file, has a '/' or ends in .toml;
+// otherwise NAME.toml in the first of palette_dirs() holding it. Throws UserError
+// naming the folders searched when there is none.
+std::string find_palette(const std::string& name_or_path);
+
+// Reads and parses a palette file, given by path or by name (find_palette); throws
+// UserError if it cannot be found or read.
+Palette load_palette(const std::string& name_or_path, double default_width_mm = 0.3);
 
 // Nearest pen to a colour by CIEDE2000, memoised per 8-bit colour (photos repeat
 // colours a lot). O(pens) per new colour, O(1) for a repeated one.
