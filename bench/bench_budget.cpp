@@ -22,6 +22,7 @@
 #include "cli/commands.hpp"
 #include "methods/palette.hpp"
 #include "ratio_reporter.hpp"
+#include "run_command.hpp"
 
 namespace {
 
@@ -31,27 +32,7 @@ std::string example(const char* name) {
   return (fs::path(__FILE__).parent_path().parent_path() / "examples" / name).string();
 }
 
-// Runs a stipplot command line in this process; returns what it printed.
-std::string run_command(const std::vector<std::string>& args) {
-  CLI::App app{"stipplot"};
-  app.require_subcommand(1);
-  stipplot::cli::register_all(app);
-  std::vector<std::string> rev(args.rbegin(), args.rend());
-  const std::string out = (fs::temp_directory_path() / "stipplot_bench_budget.out").string();
-  std::fflush(stdout);
-  const int saved = dup(STDOUT_FILENO);
-  const int fd = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  dup2(fd, STDOUT_FILENO);
-  close(fd);
-  app.parse(rev);
-  std::fflush(stdout);
-  dup2(saved, STDOUT_FILENO);
-  close(saved);
-  std::ifstream in(out);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string run_command(const std::vector<std::string>& args) { return bench_cli::run_command(args, "budget"); }
 
 std::vector<std::string> command(const char* method) {
   const std::string svg = (fs::temp_directory_path() / "stipplot_bench_budget.svg").string();

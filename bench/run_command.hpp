@@ -1,0 +1,40 @@
+#pragma once
+// Runs a stipplot command line in the benchmark's own process (no fork or exec in the
+// timing) and returns what it printed on stdout, caught through a file named `tag`.
+#include <CLI/CLI.hpp>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/commands.hpp"
+
+namespace bench_cli {
+
+inline std::string run_command(const std::vector<std::string>& args, const std::string& tag) {
+  CLI::App app{"stipplot"};
+  app.require_subcommand(1);
+  stipplot::cli::register_all(app);
+  std::vector<std::string> rev(args.rbegin(), args.rend());
+  const std::string out = (std::filesystem::temp_directory_path() / ("stipplot_bench_" + tag + ".out")).string();
+  std::fflush(stdout);
+  const int saved = dup(STDOUT_FILENO);
+  const int fd = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  dup2(fd, STDOUT_FILENO);
+  close(fd);
+  app.parse(rev);
+  std::fflush(stdout);
+  dup2(saved, STDOUT_FILENO);
+  close(saved);
+  std::ifstream in(out);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace bench_cli
