@@ -23,15 +23,33 @@ if ! wait "$setup_test"; then
 fi
 cat build/setup-test.log
 phase "set-up for the tests"
-(cd build && ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb')
+# Three lanes at once. The firmware tests (tests/firmware: the real grbl 1.1h AVR binary on
+# simavr, paced to the wall clock, one at a time, a test passes first time or fails) need
+# under a core and run at normal priority, as a plotter's host does; the other tests run
+# beside them at nice 10 on every core, and the fuzz targets build at nice 19.
+fw_log=build/ci-firmware.log
+(cd build && ctest --output-on-failure -L firmware) >"$fw_log" 2>&1 &
+firmware=$!
+nice -n 19 bash scripts/fuzz.sh build >build/ci-fuzz-build.log 2>&1 &
+fuzz_build=$!
+status=0
+(cd build && nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime') || status=1
 phase "tests"
+wait "$firmware" || status=1
+cat "$fw_log"
+phase "firmware tests (beside the tests)"
+if ! wait "$fuzz_build"; then
+  tail -30 build/ci-fuzz-build.log >&2
+  echo "test.sh: building the fuzz targets failed" >&2
+  status=1
+fi
+[ "$status" -eq 0 ] || exit 1
+# [realtime] times a simulated plot against the wall clock: alone, one at a time.
+(cd build && ctest --output-on-failure -L realtime)
+phase "real-time tests"
 # The EiBotBoard firmware v3.0.2 compiled for the PC (ebb_sim, tests/ebb): built into the
 # build tree by the first test that needs it, then AxiDraw jobs streamed to it.
 (cd build && ctest --output-on-failure -j "$(nproc)" -L ebb)
 phase "EBB firmware tests"
-# The real grbl 1.1h AVR binary on simavr (tests/firmware): one simulated CPU, paced to the
-# wall clock, no host threads to race. A firmware test passes first time or fails.
-(cd build && ctest --output-on-failure -L firmware)
-phase "firmware tests"
-bash scripts/fuzz.sh
+bash scripts/fuzz.sh run
 phase "fuzzing"

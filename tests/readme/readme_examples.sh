@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Runs every `stipplot ...` example in README.md's sh blocks, in order, in one scratch
+# Runs every `stipplot ...` example in the sh blocks of README.md and the guides in docs/
+# (README first, then the guides in the order of DOCS below), in order, in one scratch
 # folder, and prints for each the SHA-256 of every file it wrote (and of its stdout for
 # commands that print a result rather than write one: profiles). With --check GOLDEN the
 # listing must equal GOLDEN byte for byte; with --update GOLDEN it rewrites GOLDEN.
@@ -20,7 +21,10 @@ ln -s "$src/examples" "$work/examples"
 out="$work/listing.txt"; : > "$out"
 cd "$work"
 # Lines of ```sh blocks that start with `stipplot `; a trailing `# comment` is dropped.
-mapfile -t cmds < <(awk '/^```sh/{on=1; next} /^```/{on=0} on && /^stipplot /{sub(/[ ]+#.*$/, ""); print}' "$src/README.md")
+DOCS=(README.md docs/install.md docs/page-units-budget.md docs/methods.md docs/pens.md docs/profiles.md
+      docs/svg-and-planning.md docs/plotting.md docs/bad-input.md docs/studio.md docs/figures.md)
+mapfile -t cmds < <(for f in "${DOCS[@]}"; do
+  awk '/^```sh/{on=1; next} /^```/{on=0} on && /^stipplot /{sub(/[ ]+#.*$/, ""); print}' "$src/$f"; done)
 n=0
 for line in "${cmds[@]}"; do
   case "$line" in
