@@ -166,18 +166,26 @@ bool device_within(const std::vector<JobLine>& L, size_t k, const DevicePen& d, 
 // The first line of the window from which the device's pen continues, or -1 if its pen
 // matches nothing there (a board that came back fresh: its position is gone). `lo` is
 // the window's first line. O(window).
-long device_match(const Job& job, size_t next, const DevicePen& device, const ResumeWindow& window, size_t& lo) {
+long device_match(const Job& job, size_t next, const DevicePen& device, const ResumeWindow& window, size_t& lo,
+                  size_t* last_match = nullptr) {
   const auto& L = job.lines;
   const double tol = job.dialect == Dialect::GCode ? 0.02 : 0.6;  // mm (a couple of steps); plotter units
   lo = next;
   for (size_t moves = 0; lo > 0 && moves < window.back_moves; --lo) moves += L[lo - 1].motion;
   size_t bytes = 0, end = lo;
+  long first = -1;
   for (size_t k = lo; k <= L.size(); end = ++k) {
-    if (device_before(L, k, device, tol)) return static_cast<long>(k);
+    if (device_before(L, k, device, tol) || (k < L.size() && device_within(L, k, device, tol))) {
+      // The earliest match is taken; a later one (a path that passes the point again, as
+      // a tree drawn back along its edges does) says how much may be drawn twice.
+      if (first < 0) first = static_cast<long>(k);
+      if (!last_match) break;
+      *last_match = k;
+    }
     if (k == L.size()) break;
-    if (device_within(L, k, device, tol)) return static_cast<long>(k);
     if (k >= next && (bytes += L[k].host_only ? 0 : L[k].text.size() + window.line_end_bytes) > window.ahead_bytes) break;
   }
+  if (first >= 0) return first;
   // A board that restarted stands with its pen lifted at the end of a pen-down move: the
   // move ran, then the reset stopped the spindle (seen on the real firmware after a dead
   // host: without this the resume went back to the window's start and drew a stroke
@@ -310,7 +318,8 @@ ResumePlan resume_from_journal(const Job& job, const JournalState& journal, cons
   // closing travel home would read as "it ran to the end").
   const bool zeroed = look && (window.back_moves > 0 || window.fresh_back_moves > 0) && !device.down &&
                       std::hypot(device.x, device.y) < 0.02;
-  long match = look ? device_match(job, after, device, window, lo) : static_cast<long>(after);
+  size_t last_match = 0;
+  long match = look ? device_match(job, after, device, window, lo, &last_match) : static_cast<long>(after);
   if (zeroed || unknown) match = -1;
   if (match < 0) {
     // Fresh: every acknowledged move it could have held unrun may be undrawn.
@@ -332,6 +341,14 @@ ResumePlan resume_from_journal(const Job& job, const JournalState& journal, cons
     rp.note = "the journal ends at line " + std::to_string(after) + " but the device's pen is where line " +
               std::to_string(from) + " left it" + (from > after ? " (it ran on after the host)" : "") +
               ": resuming from line " + std::to_string(from + 1);
+  if (look && last_match > from && !zeroed) {
+    // The pen stands where the path passes more than once: the earliest, so nothing is
+    // lost; the path up to the last such place may be drawn again.
+    rp.redraw = std::max(rp.redraw, pen_down_length(job, rp.next, false, {}, static_cast<long>(last_match) - 1));
+    rp.note += std::string(rp.note.empty() ? "" : "; ") + "the job passes the pen's point again by line " +
+               std::to_string(last_match) + ": resuming from the earlier (line " + std::to_string(from + 1) +
+               "), up to that much may be drawn twice";
+  }
   return rp;
 }
 

@@ -6,6 +6,8 @@
 #include "cli/method_command.hpp"
 #include "methods/tree/tree.hpp"
 #include "methods/working_grid.hpp"
+#include "util/error.hpp"
+#include "util/units.hpp"
 
 namespace stipplot::cli {
 
@@ -14,7 +16,29 @@ struct TreeArgs {
   std::string distance = "sibd";
   tree::TreeParams p;
   tree::TerrainParams t;
+  bool separate = false;
+  std::string retrace = "auto";
 };
+
+// The pen-down line that takes as long as one pen drop and lift on the profile: an edge
+// shorter than this is cheaper drawn back along than left by lifting. O(log) line times.
+double lift_length_mm(const budget::MarkCosts& costs) {
+  const double lift = costs.pen_cycle_s();
+  if (!(lift > 0)) return 0;
+  double lo = 0, hi = 1000;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = (lo + hi) / 2;
+    (costs.line_s(mid) < lift ? lo : hi) = mid;
+  }
+  return lo;
+}
+
+tree::TreeStrokes strokes_for(const TreeArgs& a, const budget::MarkCosts& costs) {
+  tree::TreeStrokes s;
+  s.link = !a.separate;
+  s.retrace_mm = a.retrace == "auto" ? lift_length_mm(costs) : parse_paper_mm(a.retrace, "--retrace");
+  return s;
+}
 
 nlohmann::json tree_summary(const tree::TreeResult& r, const tree::TreeParams& p) {
   nlohmann::json s;
@@ -48,6 +72,8 @@ void register_tree(CLI::App& app) {
       "Canny) to the points and measure intensity as the distance from those edges.\n"
       "--terrain writes a terrain map: the tree as valleys in the image (or edge distance) as height,\n"
       "bump-map shaded, high ground red, low ground green, edges blue.\n"
+      "Each tree is drawn as few pen-down trails: an edge is drawn back along where that is quicker than a pen\n"
+      "lift (--retrace), and every edge is its own stroke with --separate (the paper's drawing, a lift each).\n"
       "Example: stipplot tree photo.jpg -o tree.svg --distance sibd --preview tree.png --terrain land.png");
   CLI::App* cmd = m->cli();
   cmd->add_option("-d,--distance", args->distance, "ed|bd|sibd|bd+sibd|ced|cbd|csibd|cbd+csibd")->capture_default_str();
@@ -61,6 +87,11 @@ void register_tree(CLI::App& app) {
   cmd->add_option("--sigma", args->p.sigma, "Gaussian blur (grid cells) of the image for BD/SIBD intensities; 0 = none")->capture_default_str()->group(g);
   cmd->add_option("--seed", args->p.seed, "Random seed; the same seed gives the same drawing")->capture_default_str()->group(g);
   cmd->add_flag("--reference-prim", args->p.reference_prim, "Use the paper's O(n^2) Prim (slow; for comparison)")->group(g);
+  cmd->add_flag("--separate", args->separate, "Draw every edge as a stroke of its own (a pen lift each) instead of linked trails")->group(g);
+  cmd->add_option("--retrace", args->retrace,
+                  "Draw an edge back along, pen down, rather than lift where it is shorter than this: mm, cm, in, pt or px; "
+                  "auto = the line a pen lift's time draws on --profile; 0 = never")
+      ->capture_default_str()->group(g);
   const char* e = "Major edges (cross variants)";
   cmd->add_option("--ms-spatial", args->p.edges.spatial_radius, "Mean-shift spatial radius (px)")->capture_default_str()->group(e);
   cmd->add_option("--ms-color", args->p.edges.color_radius, "Mean-shift colour radius")->capture_default_str()->group(e);
@@ -79,6 +110,9 @@ void register_tree(CLI::App& app) {
         args->p.variant = tree::parse_variant(args->distance);
         args->p.validate();
         args->t.validate();
+        if (args->retrace != "auto" && !(parse_paper_mm(args->retrace, "--retrace") >= 0))
+          throw UserError("--retrace must be >= 0 (or auto)");
+        if (args->separate && args->retrace != "auto") throw UserError("--retrace belongs to linked trails, not --separate");
       },
       [args](const MethodInput& in) { return spaced_density(in, [args, &in](double spacing) {
         tree::TreeParams p = args->p;
@@ -89,7 +123,7 @@ void register_tree(CLI::App& app) {
                                                    in.placement.pen_width_mm);
         auto r = std::make_shared<tree::TreeResult>(tree::tree_pixels(grid.image, p));
         MethodResult out;
-        out.drawing = tree::place_tree(*r, in.placement);
+        out.drawing = tree::place_tree(*r, in.placement, strokes_for(*args, in.costs));
         out.summary = tree_summary(*r, p);
         out.images["--terrain"] = [r, args] { return tree::terrain(*r, args->t); };
         out.counts = std::to_string(r->points.size()) + " points, " + std::to_string(out.drawing.primitive_count()) +

@@ -285,6 +285,25 @@ TEST_CASE("resume point: a restarted board's lifted pen at a pen-down move's end
   CHECK(resume_point(job, journal, DevicePen{true, false, 10, 10}, restarted) == 4);
 }
 
+TEST_CASE("resume: a pen standing where the path passes twice resumes from the earlier pass and announces the redraw", "[drivers][journal]") {
+  // A tree edge drawn back along: lines 0 G21, 1 G90, 2 M5, 3 G0 X10 Y10, 4 M3 S30,
+  // 5 G1 X20 Y10 F600, 6 G1 X20 Y13, 7 G1 X20 Y10, 8 G1 X30 Y10, 9 M5. (20, 10) ends 5 and 7.
+  Job job = parse_gcode_job("G21\nG90\nM5\nG0 X10 Y10\nM3 S30\nG1 X20 Y10 F600\nG1 X20 Y13\nG1 X20 Y10\nG1 X30 Y10\nM5\n");
+  JournalState journal;
+  journal.last_acked = 4;  // the link dropped; the board ran on with what it held
+  const ResumeWindow dropped{128, 15, 1, 0};
+  const DevicePen at_node{true, true, 20, 10};
+  CHECK(resume_point(job, journal, at_node, dropped) == 6);  // the earlier: nothing lost
+  const ResumePlan rp = resume_from_journal(job, journal, at_node, dropped);
+  CHECK(rp.next == 6);
+  CHECK(rp.redraw == Approx(6.0));  // up to 20,13 and back: what a board at the later pass gets twice
+  CHECK_THAT(rp.note, Catch::Contains("passes the pen's point again"));
+  // A point the path reaches once: nothing announced.
+  const ResumePlan once = resume_from_journal(job, journal, DevicePen{true, true, 20, 13}, dropped);
+  CHECK(once.next == 7);
+  CHECK(once.redraw == 0);
+}
+
 TEST_CASE("resume plans: lift, travel, restore the pen, dots are not touched twice", "[drivers][journal]") {
   // lines: 0 G21, 1 G90, 2 M5, 3 G0 X10 Y10, 4 M3 S30, 5 G4 P0.1, 6 G1 X20 Y10 F600, 7 G1 X20 Y20,
   //        8 M5, 9 G0 X50 Y50, 10 M3 S30, 11 G4 P0.1, 12 M5, 13 G0 X0 Y0

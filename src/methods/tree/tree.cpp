@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "methods/stipple/pds.hpp"
+#include "methods/tree/trails.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
 
@@ -160,40 +161,66 @@ double crowd_gap_mm(size_t lines, double pen_mm, double disc_mm, double coverage
   return std::clamp(R - allowed / pen_mm, 0.0, R);
 }
 
-Drawing place_tree(const TreeResult& r, const Placement& placement) {
+Drawing place_tree(const TreeResult& r, const Placement& placement, const TreeStrokes& strokes) {
   const PageTransform tf = placement.transform(r.width, r.height);
   const double pen = placement.pen_width_mm;
   Drawing d;
   d.page.width_mm = tf.page_w();
   d.page.height_mm = tf.page_h();
-  std::vector<uint32_t> degree(r.points.x.size());
+  const size_t n = r.points.x.size();
+  std::vector<uint32_t> degree(n);
   for (const TreeLayer& tl : r.layers) {
     Layer layer;
     layer.pen = Pen{std::string(r.cross ? "tree-c" : "tree-") + to_string(tl.kind), colors::black, pen};
     layer.lines.reserve(tl.edges.size());
     std::fill(degree.begin(), degree.end(), 0);
     for (const Edge& e : tl.edges) ++degree[e.a], ++degree[e.b];
+    // Linked: the points' positions, then one vertex of its own for every segment end
+    // that stops short of a crowded point (the trail ends there).
+    std::vector<Vec2> pos;
+    std::vector<TrailEdge> trail_edges;
+    if (strokes.link) {
+      pos.reserve(n);
+      for (size_t i = 0; i < n; ++i) pos.push_back(tf.map(r.points.x[i] + 0.5, r.points.y[i] + 0.5));
+    }
     for (const Edge& e : tl.edges) {
       Vec2 a = tf.map(r.points.x[e.a] + 0.5, r.points.y[e.a] + 0.5);
       Vec2 b = tf.map(r.points.x[e.b] + 0.5, r.points.y[e.b] + 0.5);
       const double len = std::hypot(b.x - a.x, b.y - a.y);
+      double ga = 0, gb = 0;
       if (len > 0) {
-        const double ga = std::min(crowd_gap_mm(degree[e.a], pen), kCrowdMaxShare * len);
-        const double gb = std::min(crowd_gap_mm(degree[e.b], pen), kCrowdMaxShare * len);
+        ga = std::min(crowd_gap_mm(degree[e.a], pen), kCrowdMaxShare * len);
+        gb = std::min(crowd_gap_mm(degree[e.b], pen), kCrowdMaxShare * len);
         const Vec2 u{(b.x - a.x) / len, (b.y - a.y) / len};
         a = {a.x + u.x * ga, a.y + u.y * ga};
         b = {b.x - u.x * gb, b.y - u.y * gb};
       }
-      layer.lines.push_back(Polyline{{a, b}});
+      if (!strokes.link) {
+        layer.lines.push_back(Polyline{{a, b}});
+        continue;
+      }
+      TrailEdge te{e.a, e.b};
+      if (ga > 0) te.a = static_cast<uint32_t>(pos.size()), pos.push_back(a);
+      if (gb > 0) te.b = static_cast<uint32_t>(pos.size()), pos.push_back(b);
+      trail_edges.push_back(te);
+    }
+    if (strokes.link) {
+      const TrailPlan tp = forest_trails(pos, trail_edges, strokes.retrace_mm);
+      for (const auto& trail : tp.trails) {
+        Polyline pl;
+        pl.pts.reserve(trail.size());
+        for (uint32_t v : trail) pl.pts.push_back(pos[v]);
+        layer.lines.push_back(std::move(pl));
+      }
     }
     d.layers.push_back(std::move(layer));
   }
   return d;
 }
 
-Drawing tree_drawing(const Image& image, const TreeParams& params, const Placement& placement) {
+Drawing tree_drawing(const Image& image, const TreeParams& params, const Placement& placement, const TreeStrokes& strokes) {
   placement.validate();
-  return place_tree(tree_pixels(image, params), placement);
+  return place_tree(tree_pixels(image, params), placement, strokes);
 }
 
 }  // namespace stipplot::tree

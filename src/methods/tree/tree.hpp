@@ -67,10 +67,20 @@ TreeResult tree_pixels(const Image& image, const TreeParams& params);
 // each stops short of it by the gap that keeps the disc's coverage at kCrowdCoverage
 // (crowd_gap_mm), never by more than kCrowdMaxShare of its length: the lines keep their
 // directions, so the tree keeps its shape. O(points + edges).
+//
+// With `strokes.link`, the segments of each tree are drawn as trails instead
+// (forest_trails, trails.hpp): a segment that stops short of a crowded point ends its
+// trail there, and an edge is drawn back along, pen down, where that is shorter than
+// `strokes.retrace_mm` (the line as long as a pen lift takes; 0 = never), so a tree of
+// thousands of edges is tens of strokes, not thousands of pen lifts. O((points + edges)).
 inline constexpr double kCrowdDiscMm = 1.0;
 inline constexpr double kCrowdCoverage = 0.75;
 inline constexpr double kCrowdMaxShare = 0.4;
-Drawing place_tree(const TreeResult& r, const Placement& placement);
+struct TreeStrokes {
+  bool link = false;
+  double retrace_mm = 0;
+};
+Drawing place_tree(const TreeResult& r, const Placement& placement, const TreeStrokes& strokes = {});
 
 // The gap from a point at which `lines` pen lines of `pen_mm` ending there must stop so
 // their ink covers at most `coverage` of a disc of diameter `disc_mm` around it (each line
@@ -78,7 +88,7 @@ Drawing place_tree(const TreeResult& r, const Placement& placement);
 double crowd_gap_mm(size_t lines, double pen_mm, double disc_mm = kCrowdDiscMm, double coverage = kCrowdCoverage);
 
 // Pure function from image + parameters to a Drawing.
-Drawing tree_drawing(const Image& image, const TreeParams& params, const Placement& placement);
+Drawing tree_drawing(const Image& image, const TreeParams& params, const Placement& placement, const TreeStrokes& strokes = {});
 
 // Mean |cos| between tree edges and the gradient of `field` (Sobel) at each edge's
 // midpoint, over edges where the gradient exceeds min_gradient. O(edges).
