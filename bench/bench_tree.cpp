@@ -7,6 +7,10 @@
 //                              prim_s, exact_s, ratio (target >= 20 at n=30000) and
 //                              weight_match (1 if the totals agree)
 //   BM_TreeMethod/<variant>    the whole method (stipples, edges, MST) on a 1024x1024 photo
+//   BM_ForestTrails/<n>        the SIBD tree of n photo stipples drawn as trails (the retrace
+//                              DP and Hierholzer, forest_trails) against the MST itself in the
+//                              same run: counter ratio_to_mst (the trails should cost a small
+//                              share of the tree), trails, retraced
 #include <benchmark/benchmark.h>
 
 #include <chrono>
@@ -17,6 +21,7 @@
 
 #include "image/image.hpp"
 #include "methods/stipple/pds.hpp"
+#include "methods/tree/trails.hpp"
 #include "methods/tree/tree.hpp"
 
 using namespace stipplot;
@@ -133,6 +138,30 @@ void BM_TreeMethod(benchmark::State& state) {
   state.counters["segments"] = double(segments);
 }
 BENCHMARK(BM_TreeMethod)->DenseRange(0, 4)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+void BM_ForestTrails(benchmark::State& state) {
+  const PointSet& pts = photo_points(size_t(state.range(0)));
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto edges = mst_exact(pts, cost_of(2));
+  const double mst_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::vector<Vec2> pos;
+  for (size_t i = 0; i < pts.size(); ++i) pos.push_back({0.3 * pts.x[i], 0.3 * pts.y[i]});  // a pen-width grid, in mm
+  std::vector<TrailEdge> te;
+  for (const Edge& e : edges) te.push_back({e.a, e.b});
+  TrailPlan plan;
+  double trails_s = 0;
+  for (auto _ : state) {
+    const auto t1 = std::chrono::steady_clock::now();
+    plan = forest_trails(pos, te, 12.5);
+    trails_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    benchmark::DoNotOptimize(plan.trails.data());
+  }
+  state.counters["points"] = double(pts.size());
+  state.counters["trails"] = double(plan.trails.size());
+  state.counters["retraced"] = double(plan.retraced_edges);
+  state.counters["ratio_to_mst"] = trails_s / mst_s;
+}
+BENCHMARK(BM_ForestTrails)->Arg(100000)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 
