@@ -33,7 +33,7 @@ firmware=$!
 nice -n 19 bash scripts/fuzz.sh build >build/ci-fuzz-build.log 2>&1 &
 fuzz_build=$!
 status=0
-(cd build && nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime') || status=1
+(cd build && nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults') || status=1
 phase "tests"
 wait "$firmware" || status=1
 cat "$fw_log"
@@ -44,6 +44,10 @@ if ! wait "$fuzz_build"; then
   status=1
 fi
 [ "$status" -eq 0 ] || exit 1
+# Faults injected into the built-in simulators (label faults), on a machine with nothing
+# else running: the simulators' clocks are the wall clock sped up.
+(cd build && ctest --output-on-failure -j "$(nproc)" -L faults)
+phase "simulator fault tests"
 # [realtime] times a simulated plot against the wall clock: alone, one at a time.
 (cd build && ctest --output-on-failure -L realtime)
 phase "real-time tests"
