@@ -230,6 +230,10 @@ PowerLoss plot_hpgl_through_power_loss(const Job& job, double loss_s) {
   c.speedup = 8;
   c.xoff_free = 384;  // room for what is in flight when XOFF leaves (the host's reaction is scaled 8x)
   c.xon_free = 640;
+  // The host writes at a quarter of the simulated link's rate (23 KB/s, still ten times what
+  // the plot takes): the simulator reads its pty only when its thread runs, and at the full
+  // rate a 4 ms stall of that thread left more than the 384 bytes of room unread when its
+  // XOFF went out (a CI run lost 21 mm to it); at this rate the room lasts 17 ms.
   c.link.baud = 115200;
   c.faults.power_loss_after_s = loss_s;
   sim::HpglSim sim(c);
@@ -240,7 +244,7 @@ PowerLoss plot_hpgl_through_power_loss(const Job& job, double loss_s) {
   const std::string jpath = pl_temp_path("hpgl.journal");
   {
     PosixSerial port(sim.open_pty(), {});
-    port.pace(115200 / 10.0 * 8);
+    port.pace(115200 / 10.0 * 2);
     hpgl::Streamer st(port, o);
     st.connect();
     JournalHeader h;
@@ -251,7 +255,7 @@ PowerLoss plot_hpgl_through_power_loss(const Job& job, double loss_s) {
   PowerLoss out;
   out.journal = Journal::load(jpath);
   PosixSerial port(sim.open_pty(), {});
-  port.pace(115200 / 10.0 * 8);
+  port.pace(115200 / 10.0 * 2);
   hpgl::Streamer st(port, o);
   st.connect();
   out.plan = resume_from_journal(job, out.journal, st.device_pen(), st.resume_window());
