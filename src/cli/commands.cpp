@@ -59,6 +59,7 @@ void register_all(CLI::App& app) {
   register_devices(app);
   register_sim(app);
   register_plot(app);
+  register_pen(app);
   register_serve(app);
   register_help_export(app);
   guard_option_values(app);  // after every command: it checks all their options

@@ -14,6 +14,7 @@ void register_export(CLI::App& app);
 void register_devices(CLI::App& app);
 void register_sim(CLI::App& app);
 void register_plot(CLI::App& app);
+void register_pen(CLI::App& app);
 void register_serve(CLI::App& app);
 void register_help_export(CLI::App& app);  // hidden: docs and completions from the options
 void register_all(CLI::App& app);

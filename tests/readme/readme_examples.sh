@@ -7,7 +7,7 @@
 # The README's placeholder inputs are mapped to real files:
 #   photo.jpg -> shared/images/coffee.png, text.png -> shared/images/text.png,
 #   moon.png -> shared/images/hubble_deep_field.jpg, my-pens.toml -> examples/pens/fineliner12.toml.
-# Examples that need hardware (--port, devices, sim) and the server (serve) are skipped; plot --sim runs with
+# Examples that need hardware (--port, devices, sim, pen) and the server (serve) are skipped; plot --sim runs with
 # --sim-speedup 1000 (what the simulator draws does not depend on its clock).
 #   readme_examples.sh STIPPLOT_BIN SOURCE_DIR SHARED_DIR [--check FILE | --update FILE]
 set -euo pipefail
@@ -28,7 +28,7 @@ mapfile -t cmds < <(for f in "${DOCS[@]}"; do
 n=0
 for line in "${cmds[@]}"; do
   case "$line" in
-    *--port*|"stipplot devices"*|"stipplot sim "*|"stipplot serve"*) continue ;;
+    *--port*|"stipplot devices"*|"stipplot sim "*|"stipplot serve"*|"stipplot pen "*) continue ;;
   esac
   n=$((n + 1))
   run=${line//stipplot /\"\$bin\" }
