@@ -177,6 +177,20 @@ size_t first_at(const StepLog& L, size_t from, Steps p, long slack = 0) {
   return std::string::npos;
 }
 
+// Like first_at, but only where the motors then stand still for at least `still_s`
+// simulated seconds (or step no more): where a reset stopped them. A path that passes the
+// same point twice (a tree drawn back along its edges) would otherwise place the reset at
+// the earlier pass. npos if no such place.
+size_t stop_at(const StepLog& L, size_t from, Steps p, long slack, double still_s) {
+  for (size_t i = from; i <= L.steps.size(); ++i) {
+    const Steps q = i == 0 ? Steps{} : L.steps[i - 1].pos;
+    if (std::labs(q.x - p.x) > slack || std::labs(q.y - p.y) > slack || std::labs(q.z - p.z) > slack) continue;
+    const double t = i == 0 ? 0 : L.steps[i - 1].t;
+    if (i == L.steps.size() || L.steps[i].t - t >= still_s) return i;
+  }
+  return std::string::npos;
+}
+
 Steps minus(Steps a, Steps b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
 Steps plus(Steps a, Steps b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
 
@@ -215,7 +229,12 @@ std::vector<ResetPlace> reset_steps(const StepLog& L, const std::vector<SessionE
     for (size_t k = ev.device + 1; k < device.size(); ++k) {
       Steps p;
       if (!status_position(device[k].text, s, p)) continue;
-      at.step = first_at(L, anchor, minus(p, off));
+      // Where the motors stood still after it (ALARM until the host unlocks: half a second
+      // or more), else, as before, the first place they were there.
+      constexpr double kResetStillS = 0.5;
+      at.step = stop_at(L, anchor, minus(p, off), 0, kResetStillS);
+      if (at.step == std::string::npos) at.step = stop_at(L, anchor, minus(p, off), 1, kResetStillS);
+      if (at.step == std::string::npos) at.step = first_at(L, anchor, minus(p, off));
       if (at.step == std::string::npos) at.step = first_at(L, anchor, minus(p, off), 1);
       if (at.step != std::string::npos) off = minus(p, at.step == 0 ? Steps{} : L.steps[at.step - 1].pos);
       break;
