@@ -8,17 +8,13 @@
 #include "cli/method_command.hpp"
 #include "preview/preview.hpp"
 #include "svg/svg_reader.hpp"
+#include "cli_json.hpp"
 #include "test_util.hpp"
 
 namespace {
 
 
-nlohmann::json run_json(const std::string& args) {
-  const auto r = test::run_cli(args + " --json");
-  INFO(args << "\n" << r.err);
-  REQUIRE(r.exit_code == 0);
-  return nlohmann::json::parse(r.out);
-}
+using test::run_json;
 
 // The input resampled by `scale` (area averaging down, cubic up), written as PNG.
 std::string scaled_copy(const test::TempDir& t, const std::string& src, double scale, const std::string& name) {

@@ -6,18 +6,14 @@
 #include <nlohmann/json.hpp>
 
 #include "methods/stipple/connect.hpp"
+#include "cli_json.hpp"
 #include "test_util.hpp"
 
 using namespace stipplot;
 
 namespace {
 
-nlohmann::json run_json(const std::string& args) {
-  const auto r = test::run_cli(args + " --json");
-  INFO(args << "\n" << r.err);
-  REQUIRE(r.exit_code == 0);
-  return nlohmann::json::parse(r.out);
-}
+using test::run_json;
 
 // A grey image: `fill(x, y)` gives each pixel's level.
 template <class F>
