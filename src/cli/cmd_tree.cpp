@@ -18,6 +18,7 @@ struct TreeArgs {
   tree::TerrainParams t;
   bool separate = false;
   std::string retrace = "auto";
+  std::string law = "tone";
 };
 
 // The pen-down line that takes as long as one pen drop and lift on the profile: an edge
@@ -43,6 +44,7 @@ tree::TreeStrokes strokes_for(const TreeArgs& a, const budget::MarkCosts& costs)
 nlohmann::json tree_summary(const tree::TreeResult& r, const tree::TreeParams& p) {
   nlohmann::json s;
   s["distance"] = p.variant.name;
+  s["law"] = p.tone_law ? "tone" : "linear";
   s["points"] = r.points.size();
   s["stipples"] = r.stipple_count;
   s["edge_pixels"] = r.points.size() - r.stipple_count;
@@ -52,6 +54,7 @@ nlohmann::json tree_summary(const tree::TreeResult& r, const tree::TreeParams& p
     trees.push_back({{"distance", tree::to_string(l.kind)},
                      {"edges", l.edges.size()},
                      {"total_cost", tree::total_cost(l.edges)},
+                     {"bridges_left_out", l.bridges},
                      {"mean_abs_cos_gradient", l.mean_abs_cos},
                      {"edges_measured", l.measured}});
   s["trees"] = trees;
@@ -81,6 +84,10 @@ void register_tree(CLI::App& app) {
   const char* g = "Tree";
   cmd->add_option("-a", args->p.a, "Stipple radius offset a, in grid cells (a cell is one pen width on paper): r = a + b*d/255")->capture_default_str()->group(g);
   cmd->add_option("-b", args->p.b, "Stipple radius slope b, in grid cells")->capture_default_str()->group(g);
+  cmd->add_option("--law", args->law,
+                  "tone: points a/t apart for darkness t (up to a+b; lighter ground empty, no edge across it), so the\n"
+                  "lines' ink follows the photo's tone; linear: the paper's r = a + b*d/255 over the whole image")
+      ->capture_default_str()->group(g);
   cmd->add_option("--alpha-bd", args->p.alpha_bd, "BD/CBD: weight of the intensity difference")->capture_default_str()->group(g);
   cmd->add_option("--alpha-sibd", args->p.alpha_sibd, "SIBD/CSIBD: weight of the penalty")->capture_default_str()->group(g);
   cmd->add_option("--h", args->p.h, "SIBD/CSIBD: threshold h on the squared intensity difference")->capture_default_str()->group(g);
@@ -108,6 +115,8 @@ void register_tree(CLI::App& app) {
   m->define(
       [args] {
         args->p.variant = tree::parse_variant(args->distance);
+        if (args->law != "tone" && args->law != "linear") throw UserError("--law: unknown law '" + args->law + "' (use tone or linear)");
+        args->p.tone_law = args->law == "tone";
         args->p.validate();
         args->t.validate();
         if (args->retrace != "auto" && !(parse_paper_mm(args->retrace, "--retrace") >= 0))

@@ -252,6 +252,36 @@ TEST_CASE("tree drawing: one 2-point polyline per tree edge, one layer per tree,
   for (size_t i = 0; i < d.layers[1].lines.size(); ++i) REQUIRE(again.layers[1].lines[i].pts == d.layers[1].lines[i].pts);
 }
 
+TEST_CASE("the tone law: lines' ink follows the darkness, light ground stays empty, no edge bridges it", "[tree][tone]") {
+  // Black on the left, white between, mid grey (darkness 0.5) on the right.
+  const Image img = image_from(300, 130, [](int x, int) { return x < 120 ? 0 : x < 180 ? 255 : 127.5; });
+  TreeParams p;
+  p.variant = parse_variant("ed");
+  p.tone_law = true;
+  const TreeResult r = tree_pixels(img, p);
+  const auto& edges = r.layers.at(0).edges;
+  for (size_t i = 0; i < r.points.size(); ++i) CHECK(!(r.points.x[i] >= 120 && r.points.x[i] < 180));
+  CHECK(r.layers[0].bridges >= 1);  // the tree's crossing of the white band is not drawn
+  double ink[2] = {0, 0};
+  for (const Edge& e : edges) {
+    const double ax = r.points.x[e.a], bx = r.points.x[e.b];
+    const double len = std::hypot(bx - ax, double(r.points.y[e.b]) - r.points.y[e.a]);
+    CHECK(len <= kBridge * (p.a + p.b) + 1e-9);
+    REQUIRE((ax < 120) == (bx < 120));  // nothing joins the two fields
+    ink[ax < 120 ? 0 : 1] += len;
+  }
+  // Line per area a / t apart goes as t: the black field twice the grey one's (the paper's
+  // linear law, r = a + b d / 255, gives it 3 times: 2 px against 6 px apart).
+  const double ratio = (ink[0] / 120) / (ink[1] / 120);
+  INFO("line per area, black / grey: " << ratio);
+  CHECK(ratio > 1.6);
+  CHECK(ratio < 2.3);
+  p.tone_law = false;
+  const TreeResult paper = tree_pixels(img, p);
+  CHECK(paper.layers[0].edges.size() == paper.points.size() - 1);  // the paper's tree spans everything
+  CHECK(paper.layers[0].bridges == 0);
+}
+
 TEST_CASE("terrain: image size, bright ground red, dark ground green, edges blue", "[tree][terrain]") {
   // Left half dark, right half bright.
   const Image img = image_from(160, 100, [](int x, int) { return x < 80 ? 40 : 215; });
@@ -310,6 +340,10 @@ TEST_CASE("bad tree parameters are rejected naming the parameter", "[tree][error
   rejects([](TreeParams& p) { p.sigma = INFINITY; }, "--sigma");
   rejects([](TreeParams& p) { p.a = -2; }, "-a");
   rejects([](TreeParams& p) {
+    p.tone_law = true;
+    p.a = 0;
+  }, "-a");
+  rejects([](TreeParams& p) {
     p.variant = parse_variant("csibd");
     p.edges.spatial_radius = -1;
   }, "--ms-spatial");
@@ -333,7 +367,8 @@ TEST_CASE("stipplot tree CLI: bad parameters exit non-zero with the name and lea
     std::string args, name;
   } cases[] = {{"--alpha-bd -1", "--alpha-bd"}, {"--alpha-sibd nan", "--alpha-sibd"}, {"--h -5", "--h"},
                {"--sigma -1", "--sigma"},       {"--distance foo", "--distance"},   {"--valley-depth -2", "--valley-depth"},
-               {"--terrain " + (dir / "t.jpg").string(), "--terrain"}};
+               {"--terrain " + (dir / "t.jpg").string(), "--terrain"},
+               {"--law sqrt", "--law"},         {"-a 0", "-a"}};
   for (const auto& c : cases) {
     int status = 0;
     const bool own_terrain = c.name == "--terrain";

@@ -127,6 +127,18 @@ RadiusTable RadiusTable::linear(double a, double b, bool inverted) {
   return t;
 }
 
+RadiusTable RadiusTable::tone(double a, double b) {
+  RadiusTable t;
+  for (int v = 0; v < 256; ++v) {
+    const double dark = 1 - v / 255.0;
+    double r = dark > 0 ? a / dark : std::numeric_limits<double>::infinity();
+    if (!(r <= a + b)) r = std::numeric_limits<double>::infinity();
+    t.r[v] = r;
+    t.r2[v] = r * r;
+  }
+  return t;
+}
+
 double RadiusTable::min() const {
   double m = std::numeric_limits<double>::infinity();
   for (double v : r)

@@ -64,6 +64,9 @@ struct RadiusTable {
   double r[256];
   double r2[256];
   static RadiusTable linear(double a, double b, bool inverted);  // a + b*d/255 or a + b*(255-d)/255
+  // Lines through points this far apart lay ink in proportion to the darkness t = 1 - d/255:
+  // r = a / t, as far as a + b; lighter levels get no point.
+  static RadiusTable tone(double a, double b);
   double min() const;  // the smallest finite radius (infinity if none)
   bool none(uint8_t v) const { return !(r[v] < 1e300); }
 };

@@ -38,6 +38,7 @@ Variant parse_variant(const std::string& name) {
 void TreeParams::validate() const {
   require_range("-a", a, 0, 500);
   require_range("-b", b, 0, 500);
+  if (tone_law && !(a > 0)) throw UserError("-a must be > 0 with --law tone (the darkest level's spacing)");
   require_range("--alpha-bd", alpha_bd, 0, 1e6);
   require_range("--alpha-sibd", alpha_sibd, 0, 1e6);
   require_range("--h", h, 0, 1e9);
@@ -94,7 +95,8 @@ TreeResult tree_pixels(const Image& image, const TreeParams& p) {
   auto t0 = std::chrono::steady_clock::now();
   Rng rng(p.seed);
   const auto order = pds::grayscale_order(r.grey, rng);
-  const auto dots = pds::sample(w, h, r.grey, pds::RadiusTable::linear(p.a, p.b, false), order);
+  const pds::RadiusTable radius = p.tone_law ? pds::RadiusTable::tone(p.a, p.b) : pds::RadiusTable::linear(p.a, p.b, false);
+  const auto dots = pds::sample(w, h, r.grey, radius, order);
   r.seconds_points = since(t0);
 
   t0 = std::chrono::steady_clock::now();
@@ -146,7 +148,21 @@ TreeResult tree_pixels(const Image& image, const TreeParams& p) {
     c.kind = kind;
     c.alpha = kind == Distance::SIBD ? p.alpha_sibd : p.alpha_bd;
     c.h = p.h;
-    TreeLayer layer{kind, p.reference_prim ? mst_prim_reference(r.points, c) : mst_exact(r.points, c), 0, 0};
+    TreeLayer layer{kind, p.reference_prim ? mst_prim_reference(r.points, c) : mst_exact(r.points, c), 0, 0, 0};
+    if (p.tone_law) {
+      // A spanning tree must reach every point, so it crosses the ground the law leaves
+      // empty; the pen need not.
+      auto at = [&](uint32_t i) {
+        return radius.r[r.grey[static_cast<size_t>(r.points.y[i]) * w + static_cast<size_t>(r.points.x[i])]];
+      };
+      const size_t before = layer.edges.size();
+      std::erase_if(layer.edges, [&](const Edge& e) {
+        const double dx = double(r.points.x[e.a]) - r.points.x[e.b], dy = double(r.points.y[e.a]) - r.points.y[e.b];
+        const double reach = kBridge * std::max(at(e.a), at(e.b));
+        return dx * dx + dy * dy > reach * reach;
+      });
+      layer.bridges = before - layer.edges.size();
+    }
     layer.mean_abs_cos = mean_abs_cos_to_gradient(r.points, layer.edges, r.field, w, h, min_gradient, &layer.measured);
     r.layers.push_back(std::move(layer));
   }

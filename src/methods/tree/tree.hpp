@@ -27,6 +27,10 @@ Variant parse_variant(const std::string& name);
 struct TreeParams {
   Variant variant = parse_variant("sibd");
   double a = 2, b = 8;      // stipple radius r = a + b d/255 (paper: 2, 8)
+  // The tone law instead (--law tone): r = a / t with t = 1 - d/255 the darkness, up to
+  // a + b, so the lines' ink follows the tone; lighter ground gets no point, and an edge
+  // longer than kBridge times its ends' radius (one that bridges such ground) is not drawn.
+  bool tone_law = false;
   double alpha_bd = 1;      // BD / CBD intensity weight
   double alpha_sibd = 0.5;  // SIBD / CSIBD penalty weight
   double h = 300;           // SIBD threshold
@@ -38,9 +42,12 @@ struct TreeParams {
   void validate() const;  // UserError naming the option
 };
 
+inline constexpr double kBridge = 3;
+
 struct TreeLayer {
   Distance kind;
   std::vector<Edge> edges;
+  size_t bridges = 0;       // tone law: edges left out as bridges over light ground
   double mean_abs_cos = 0;  // mean |cos| between edges and the local gradient of d
   size_t measured = 0;      // edges where the gradient was large enough to measure
 };
