@@ -5,9 +5,13 @@
 //  - The m solve (Newton from below) against plain bisection, and the LDS placement
 //    (guide tables) against independent draws with binary search, at growing grid
 //    sizes: the per-cell time stays flat (linear in cells).
+//  - BM_SketchLink: one black pen's strokes of that photo on A4 (about 58k marks) linked
+//    into scribbles (the planner's tour over their ends, then the link tests), against
+//    the sketch that made them (BM_SketchBlack: probabilities, points, strokes).
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
+#include "methods/sketch/link.hpp"
 #include "methods/sketch/redistribution.hpp"
 #include "methods/sketch/sketch.hpp"
 #include "photo_12mp.hpp"
@@ -44,6 +48,42 @@ void BM_SketchPhotoToSvg(benchmark::State& state) { photo_to_svg(state, sketch::
 void BM_SketchPhotoToSvg_RandomDraws(benchmark::State& state) { photo_to_svg(state, sketch::SketchParams::Sampler::Random); }
 BENCHMARK(BM_SketchPhotoToSvg)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 BENCHMARK(BM_SketchPhotoToSvg_RandomDraws)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+sketch::SketchParams black_pen() {
+  sketch::SketchParams p;
+  p.space = sketch::ColorSpace::Pens;
+  p.pens = {Pen{"black", colors::black, 0.3}};
+  return p;
+}
+Placement a4_landscape() {
+  Placement pl;
+  pl.landscape = true;
+  return pl;
+}
+void BM_SketchBlack(benchmark::State& state) {
+  const Image img = load_image(photo_12mp());
+  size_t strokes = 0;
+  for (auto _ : state) {
+    const sketch::SketchResult r = sketch::sketch_strokes(img, black_pen(), a4_landscape());
+    strokes = r.plotted_strokes();
+    benchmark::DoNotOptimize(strokes);
+  }
+  state.counters["strokes"] = static_cast<double>(strokes);
+}
+void BM_SketchLink(benchmark::State& state) {
+  const Image img = load_image(photo_12mp());
+  const sketch::SketchResult r = sketch::sketch_strokes(img, black_pen(), a4_landscape());
+  const Drawing d = sketch::to_drawing(r);
+  sketch::LinkStats st;
+  for (auto _ : state) {
+    const Drawing linked = sketch::link_strokes(r, d, 1.0, sketch::LinkParams{}, &st);
+    benchmark::DoNotOptimize(linked.layers.data());
+  }
+  state.counters["strokes"] = static_cast<double>(st.strokes);
+  state.counters["lines"] = static_cast<double>(st.lines);
+}
+BENCHMARK(BM_SketchBlack)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_SketchLink)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
 // A smooth probability field with zeros, like one pen of a photo.
 std::vector<float> field(int side) {
@@ -97,5 +137,6 @@ BENCHMARK(BM_PlacePoints_RandomBinarySearch)->RangeMultiplier(2)->Range(256, 204
 }  // namespace
 
 STIPPLOT_BENCH_MAIN({{"BM_SketchPhotoToSvg", "BM_SketchPhotoToSvg_RandomDraws"},
+                     {"BM_SketchLink", "BM_SketchBlack"},
                      {"BM_SolveM/2048", "BM_SolveM_Bisection/2048"},
                      {"BM_PlacePoints/2048", "BM_PlacePoints_RandomBinarySearch/2048"}})

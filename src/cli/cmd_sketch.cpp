@@ -6,6 +6,8 @@
 #include "cli/pen_choice.hpp"
 #include "eval/color_difference.hpp"
 #include "methods/palette.hpp"
+#include "budget/mark_costs.hpp"
+#include "methods/sketch/link.hpp"
 #include "methods/sketch/sketch.hpp"
 #include "util/error.hpp"
 #include "util/units.hpp"
@@ -28,6 +30,8 @@ struct SketchArgs {
   sketch::PreviewStyle style = sketch::PreviewStyle::Paper;
   bool space_given = false;
   int max_pens = -1;  // not given
+  bool separate = false;
+  sketch::LinkParams link;
 };
 
 // Options to parameters, before any work.
@@ -52,11 +56,12 @@ void resolve(SketchArgs& a) {
   a.p.sampler = a.sampler == "lds" ? sketch::SketchParams::Sampler::LowDiscrepancy : sketch::SketchParams::Sampler::Random;
   if (a.preview_style != "pen") a.style = sketch::parse_preview_style(a.preview_style);
   require_range("--blur-cells", a.blur_cells, 0, 100);
+  a.link.validate();
   check_max_pens(a.max_pens, a.pens_file.empty() ? 0 : a.p.pens.size(), a.pens_file);
   a.p.validate();
 }
 
-MethodResult draw(const SketchArgs& a, const MethodInput& in) {
+MethodResult draw(const SketchArgs& a, const MethodInput& in, std::shared_ptr<const sketch::SketchResult>* keep) {
   sketch::SketchParams p = a.p;
   PenChoice choice;
   if (a.max_pens > 0) {
@@ -70,6 +75,7 @@ MethodResult draw(const SketchArgs& a, const MethodInput& in) {
     p.pens = choice.pens;
   }
   auto r = std::make_shared<sketch::SketchResult>(sketch::sketch_strokes(in.image, p, in.placement));
+  *keep = r;
   MethodResult out;
   out.drawing = sketch::to_drawing(*r);
   nlohmann::json& s = out.summary;
@@ -148,6 +154,16 @@ void register_sketch(CLI::App& app) {
                   "lds: points at a low-discrepancy sequence (even, as Secord); random: independent draws (clumpy)")
       ->capture_default_str()->group("Sketch");
   cmd->add_option("--seed", args->p.seed, "Random seed; the same seed gives the same drawing")->capture_default_str()->group("Sketch");
+  cmd->add_flag("--separate", args->separate,
+                "Draw every stroke on its own (a pen lift each) instead of linking a pen's strokes into scribbles")
+      ->group("Strokes");
+  cmd->add_option("--link-length", args->link.lift_length,
+                  "Join consecutive strokes of a pen, pen down, where the link is at most this many local spacings of "
+                  "its marks ...")
+      ->capture_default_str()->group("Strokes");
+  cmd->add_option("--link-tone", args->link.lift_tone,
+                  "... and the ground it crosses wants at least this share of the pen's ink at its ends")
+      ->capture_default_str()->group("Strokes");
   cmd->add_option("--preview-style", args->preview_style,
                   "pen: the plan drawn with the pens' real widths, ink multiplying (what the plotter draws); "
                   "paper: every mark, lightened, colours averaged where strokes overlap, as in the paper; "
@@ -162,7 +178,37 @@ void register_sketch(CLI::App& app) {
         args->space_given = space_opt->count() > 0;
         resolve(*args);
       },
-      [args](const MethodInput& in) { return thinned_density(in, [args, &in] { return draw(*args, in); }); });
+      [args](const MethodInput& in) {
+        auto result = std::make_shared<std::shared_ptr<const sketch::SketchResult>>();
+        MethodDraft d = thinned_density(in, [args, &in, result] { return draw(*args, in, result.get()); });
+        if (args->separate) return d;
+        // Linked after thinning: the budget keeps a share k of the marks, and those are
+        // joined. Linking saves pen lifts, so the thinned marks' time (k x the full
+        // drawing's) over-predicts; the pilot at the first knob scales it.
+        auto thinned = d.draw;
+        auto cache = std::make_shared<std::pair<double, MethodResult>>(-1, MethodResult{});
+        auto linked = [args, thinned, result, cache](double k) {
+          if (cache->first == k) return cache->second;
+          MethodResult r = thinned(k);
+          sketch::LinkStats st;
+          r.drawing = sketch::link_strokes(**result, r.drawing, std::clamp(k, 1e-6, 1.0), args->link, &st);
+          r.summary["linked"] = {{"strokes", st.strokes}, {"lines", st.lines}, {"links", st.links}, {"link_mm", st.link_mm}};
+          r.counts += ", linked into " + std::to_string(st.lines) + " lines";
+          *cache = {k, r};
+          return r;
+        };
+        auto scale = std::make_shared<double>(1.0);
+        auto predict = d.predict;
+        d.predict = [predict, scale](double k) { return *scale * predict(k); };
+        d.calibrate = [linked, predict, scale, &in](double k) {
+          const double thin_s = predict(k);
+          if (!(thin_s > 0)) return;
+          const double s = budget::quick_estimate_seconds(linked(k).drawing, in.costs.motion(), in.costs.plan_options());
+          *scale = std::clamp(s / thin_s, 0.01, 1.0);
+        };
+        d.draw = linked;
+        return d;
+      });
 }
 
 }  // namespace stipplot::cli

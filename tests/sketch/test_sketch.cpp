@@ -410,7 +410,8 @@ TEST_CASE("sketch CLI: both spaces and a palette, one layer per pen, bad input r
     INFO(mode << ": " << r.err);
     REQUIRE(r.exit_code == 0);
     auto j = nlohmann::json::parse(r.out);
-    CHECK(j["primitives"].get<size_t>() > 100);
+    CHECK(j["linked"]["strokes"].get<size_t>() > 100);                          // marks,
+    CHECK(j["primitives"].get<size_t>() < j["linked"]["strokes"].get<size_t>() / 4);  // linked into scribbles
     CHECK(j["delta_e00"].get<double>() > 0);
     CHECK(std::filesystem::file_size(t.file("p.png")) > 1000);
     const std::string svg = test::read_file(t.file("o.svg"));

@@ -315,7 +315,11 @@ SketchResult sketch_strokes(const Image& image, const SketchParams& params, cons
   r.grid_h = static_cast<int>(gh_d);
   r.cell_mm = cell_mm;
   const Image grid = resize_to(image, r.grid_w, r.grid_h);
-  const auto prob = pen_probabilities(grid, params, pens);
+  r.prob = pen_probabilities(grid, params, pens);
+  const auto& prob = r.prob;
+  r.grid_origin_mm = T.map(0, 0);
+  r.cell_w_mm = static_cast<double>(image.width) / r.grid_w * mm_per_px;
+  r.cell_h_mm = static_cast<double>(image.height) / r.grid_h * mm_per_px;
   const EdgeField edges = edge_field(grid);
   const double hatch = params.hatch_deg * kPi / 180;
   const StrokeShaper shaper{params, grid, edges, T, static_cast<double>(image.width) / r.grid_w,

@@ -89,6 +89,11 @@ struct SketchResult {
   int grid_w = 0, grid_h = 0;   // the sampling grid
   double cell_mm = 0;
   std::vector<PenStrokes> pens;
+  // Each pen's probability p per grid cell (as pens), and where the grid lies on the page:
+  // cell (x, y) covers grid_origin_mm + [x, x+1) x cell_w_mm, [y, y+1) x cell_h_mm.
+  std::vector<std::vector<float>> prob;
+  Vec2 grid_origin_mm{0, 0};
+  double cell_w_mm = 0, cell_h_mm = 0;
   size_t plotted_strokes() const;
 };
 

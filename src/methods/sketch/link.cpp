@@ -1,0 +1,120 @@
+#include "methods/sketch/link.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "plan/tour.hpp"
+#include "util/error.hpp"
+
+namespace stipplot::sketch {
+
+void LinkParams::validate() const {
+  require_range("--link-length", lift_length, 0, 1e3);
+  require_range("--link-tone", lift_tone, 0, 1e3);
+}
+
+namespace {
+// One pen's probability field on the page.
+struct Field {
+  const SketchResult& r;
+  const std::vector<float>& p;
+  double density;
+  float at(Vec2 q) const {
+    const int x = std::clamp(static_cast<int>((q.x - r.grid_origin_mm.x) / r.cell_w_mm), 0, r.grid_w - 1);
+    const int y = std::clamp(static_cast<int>((q.y - r.grid_origin_mm.y) / r.cell_h_mm), 0, r.grid_h - 1);
+    return p[static_cast<size_t>(y) * static_cast<size_t>(r.grid_w) + static_cast<size_t>(x)];
+  }
+  // Mean distance between the kept marks near q, in mm.
+  double spacing(Vec2 q) const {
+    const double marks = -std::log1p(-std::min(0.999, static_cast<double>(at(q)))) * density;
+    return std::sqrt(r.cell_w_mm * r.cell_h_mm / std::max(marks, 1e-6));
+  }
+};
+
+bool lifted(const Field& f, const LinkParams& p, double half_cell, Vec2 a, Vec2 b) {
+  const double len = std::hypot(b.x - a.x, b.y - a.y);
+  if (len > p.lift_length * std::max(f.spacing(a), f.spacing(b))) return true;
+  const double ends = 0.5 * (f.at(a) + f.at(b));
+  if (!(ends > 0)) return true;  // both ends on ground this pen is not for
+  const int n = std::max(2, static_cast<int>(std::ceil(len / half_cell)) + 1);
+  double sum = 0;
+  for (int i = 0; i < n; ++i) {
+    const double t = static_cast<double>(i) / (n - 1);
+    sum += f.at({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
+  }
+  return sum / n < p.lift_tone * ends;
+}
+
+Layer link_layer(const Field& f, const Layer& in, const LinkParams& p, LinkStats& st) {
+  Layer out;
+  out.pen = in.pen;
+  out.dots = in.dots;
+  out.circles = in.circles;
+  out.areas = in.areas;
+  std::vector<const Polyline*> strokes;
+  for (const Polyline& l : in.lines)
+    if (!l.pts.empty()) strokes.push_back(&l);
+  st.strokes += strokes.size();
+  if (strokes.empty()) return out;
+  std::vector<Vec2> ends;
+  std::vector<int32_t> partner;
+  ends.reserve(2 * strokes.size());
+  for (size_t i = 0; i < strokes.size(); ++i) {
+    ends.push_back(strokes[i]->pts.front());
+    ends.push_back(strokes[i]->pts.back());
+    partner.push_back(static_cast<int32_t>(2 * i + 1));
+    partner.push_back(static_cast<int32_t>(2 * i));
+  }
+  plan::TourOptions to;
+  to.seconds_cap = p.tour_seconds_cap;
+  to.seed = p.seed;
+  const std::vector<uint32_t> path = plan::plan_tour(ends, partner, {0, 0}, to);
+  const double half_cell = 0.5 * std::min(f.r.cell_w_mm, f.r.cell_h_mm);
+  Polyline run;
+  for (size_t i = 0; i + 1 < path.size(); i += 2) {
+    // path[i] enters stroke path[i] / 2 and path[i + 1] leaves it.
+    const Polyline& s = *strokes[path[i] / 2];
+    const bool reversed = path[i] % 2 == 1;
+    if (!run.pts.empty()) {
+      const Vec2 a = run.pts.back(), b = reversed ? s.pts.back() : s.pts.front();
+      if (lifted(f, p, half_cell, a, b)) {
+        out.lines.push_back(std::move(run));
+        run = Polyline{};
+      } else {
+        ++st.links;
+        st.link_mm += std::hypot(b.x - a.x, b.y - a.y);
+      }
+    }
+    if (reversed)
+      run.pts.insert(run.pts.end(), s.pts.rbegin(), s.pts.rend());
+    else
+      run.pts.insert(run.pts.end(), s.pts.begin(), s.pts.end());
+  }
+  if (!run.pts.empty()) out.lines.push_back(std::move(run));
+  st.lines += out.lines.size();
+  return out;
+}
+}  // namespace
+
+Drawing link_strokes(const SketchResult& r, const Drawing& kept, double density, const LinkParams& p, LinkStats* stats) {
+  p.validate();
+  if (!(density > 0 && density <= 1)) throw UserError("link_strokes: density must be in (0, 1]");
+  LinkStats st;
+  Drawing out;
+  out.page = kept.page;
+  for (const Layer& l : kept.layers) {
+    const auto it = std::find_if(r.pens.begin(), r.pens.end(), [&](const PenStrokes& ps) {
+      return ps.pen.name == l.pen.name && ps.pen.color == l.pen.color;
+    });
+    if (it == r.pens.end() || r.prob.size() != r.pens.size()) {
+      out.layers.push_back(l);
+      continue;
+    }
+    const Field f{r, r.prob[static_cast<size_t>(it - r.pens.begin())], density};
+    out.layers.push_back(link_layer(f, l, p, st));
+  }
+  if (stats) *stats = st;
+  return out;
+}
+
+}  // namespace stipplot::sketch
