@@ -216,7 +216,8 @@ PenSetup read_pen(Section s, bool hpgl, bool ebb) {
   if (hpgl) {
     p.method = s.choice<PenMethod>("method", {{"hpgl", PenMethod::hpgl}});
   } else if (ebb) {
-    p.method = s.choice<PenMethod>("method", {{"ebb-servo", PenMethod::ebb}});
+    p.method = PenMethod::ebb;
+    p.ebb_brushless = s.choice<bool>("method", {{"ebb-servo", false}, {"ebb-brushless", true}});
   } else {
     p.method = s.choice<PenMethod>(
         "method", {{"servo", PenMethod::servo}, {"z", PenMethod::z_axis}, {"laser", PenMethod::laser}});
@@ -480,7 +481,29 @@ EbbPen ebb_pen(const PenSetup& pen, const EbbSetup& e) {
   };
   out.raise_ms = static_cast<int>(travel_ms(pen.rate_raise_pct) + pen.delay_up_ms);
   out.lower_ms = static_cast<int>(travel_ms(pen.rate_lower_pct) + pen.delay_down_ms);
+  if (pen.ebb_brushless) {  // nextdraw/axidraw pen_handling.py: z_motor 1 on pin 2, SC,8,1
+    out.pin = 2;
+    out.channels = 1;
+  }
   return out;
+}
+
+std::vector<std::string> ebb_servo_setup(const EbbPen& pen) {
+  std::vector<std::string> out = {"SC,4," + std::to_string(pen.up), "SC,5," + std::to_string(pen.down),
+                                  "SC,11," + std::to_string(pen.rate_up), "SC,12," + std::to_string(pen.rate_down)};
+  // Before the first SP: the rates above count per PWM period, one channel of 3 ms.
+  if (pen.channels > 0) out.push_back("SC,8," + std::to_string(pen.channels));
+  return out;
+}
+
+std::string ebb_pen_command(const EbbPen& pen, bool down) {
+  std::string c = down ? "SP,0," + std::to_string(pen.lower_ms) : "SP,1," + std::to_string(pen.raise_ms);
+  if (pen.pin > 0) c += "," + std::to_string(pen.pin);
+  return c;
+}
+
+std::string pen_method_name(const PenSetup& pen) {
+  return pen.method == PenMethod::ebb && pen.ebb_brushless ? "ebb-brushless" : to_string(pen.method);
 }
 
 std::string to_string(PenMethod m) {

@@ -13,10 +13,13 @@ std::string hexid(int vid, int pid) {
   std::snprintf(b, sizeof b, "%04x:%04x", vid & 0xffff, pid & 0xffff);
   return b;
 }
-// Microchip's id for the EiBotBoard (AxiDraw, NextDraw, EggBot): said, so the user knows
-// which profiles fit.
+// Microchip's id for the EiBotBoard (AxiDraw, NextDraw, iDraw, EggBot): said, so the user
+// knows which profiles fit.
 std::string known_board(int vid, int pid) {
-  return vid == 0x04d8 && pid == 0xfd92 ? "  [EiBotBoard: AxiDraw, --profile axidraw-v3|axidraw-v3-a3|axidraw-minikit]" : "";
+  return vid == 0x04d8 && pid == 0xfd92
+             ? "  [EiBotBoard: AxiDraw, NextDraw, iDraw: --profile axidraw-v3|axidraw-v3-a3|axidraw-minikit|"
+               "nextdraw-8511|nextdraw-1117|nextdraw-2234|idraw-a4|idraw-a3]"
+             : "";
 }
 bool plausible_serial(const SerialPortInfo& p) {
   if (p.transport == "usb") return true;

@@ -47,11 +47,8 @@ void run_pen(const PenArgs& a) {
   auto port = io::open_port(port_name, prof.serial.port);
   io::ebb::Streamer st(*port, io::ebb::options_for(prof));
   st.connect();
-  st.command("SC,4," + std::to_string(pen.up));
-  st.command("SC,5," + std::to_string(pen.down));
-  st.command("SC,11," + std::to_string(pen.rate_up));
-  st.command("SC,12," + std::to_string(pen.rate_down));
-  const std::string raise = "SP,1," + std::to_string(pen.raise_ms), lower = "SP,0," + std::to_string(pen.lower_ms);
+  for (const std::string& c : ebb_servo_setup(pen)) st.command(c);
+  const std::string raise = ebb_pen_command(pen, false), lower = ebb_pen_command(pen, true);
   if (a.action == "up") {
     st.command(raise);
   } else if (a.action == "down") {
