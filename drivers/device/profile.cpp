@@ -319,9 +319,7 @@ SerialSetup read_serial(Section s, bool hpgl, HpglSettings& h) {
 // An EBB's pen times from its servo (axicli's formula), and its speeds within the
 // firmware's step rate: motor 1 steps at (|vx| + |vy|) * steps_per_mm at worst.
 void finish_ebb(DeviceProfile& p, const std::string& file) {
-  const EbbPen pen = ebb_pen(p.pen, p.ebb);
-  p.motion.pen_lift_s = pen.raise_ms / 1000.0;
-  p.motion.pen_drop_s = pen.lower_ms / 1000.0;
+  set_ebb_pen_heights(p, p.pen.pos_up_pct, p.pen.pos_down_pct);
   const double worst = std::max(p.motion.speed_up_mm_s, p.motion.speed_down_mm_s) * std::sqrt(2.0) * p.ebb.steps_per_mm;
   if (worst > p.ebb.max_step_rate_hz)
     throw UserError("profile " + file + ": speeds above " +
@@ -486,6 +484,14 @@ EbbPen ebb_pen(const PenSetup& pen, const EbbSetup& e) {
     out.channels = 1;
   }
   return out;
+}
+
+void set_ebb_pen_heights(DeviceProfile& p, double up_pct, double down_pct) {
+  p.pen.pos_up_pct = up_pct;
+  p.pen.pos_down_pct = down_pct;
+  const EbbPen pen = ebb_pen(p.pen, p.ebb);
+  p.motion.pen_lift_s = pen.raise_ms / 1000.0;
+  p.motion.pen_drop_s = pen.lower_ms / 1000.0;
 }
 
 std::vector<std::string> ebb_servo_setup(const EbbPen& pen) {

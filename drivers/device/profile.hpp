@@ -142,6 +142,10 @@ struct DeviceProfile {
   SerialSetup serial;
 };
 
+// An EBB profile's pen heights changed (percent, 0 to 100, as pos_up_pct/pos_down_pct), with
+// the pen-lift and drop times that follow from them ([motion] pen_lift_s, pen_drop_s).
+void set_ebb_pen_heights(DeviceProfile& p, double up_pct, double down_pct);
+
 // Parses and validates a profile file; throws UserError naming the file and key.
 // O(file size).
 DeviceProfile load_profile_file(const std::filesystem::path& path);

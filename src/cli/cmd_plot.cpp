@@ -66,6 +66,7 @@ struct PlotArgs {
   std::string input, profile, port, resume, job_out;
   PlanArgs plan;      // an SVG's planning
   LayoutArgs layout;  // an SVG's layout on the profile's sheet
+  PenHeightArgs heights;  // an SVG's pen heights on an EBB
   bool page_given = false, flow_given = false, handshake_given = false, rx_buffer_given = false;
   bool sim = false, check = false, json = false, quiet = false, skip_errors = false, unlock = false, newline = false;
   bool control = false;  // driven by another program through stdin (stipplot serve)
@@ -77,6 +78,9 @@ struct PlotArgs {
   void validate() const {
     if (input.empty() && resume.empty()) throw UserError("give a job to plot, or --resume JOB");
     if (sim && !port.empty()) throw UserError("--sim and --port exclude each other");
+    heights.check();
+    if (!resume.empty() && heights.any_given())
+      throw UserError("--pos-up/--pos-down apply to an SVG drawing; a resumed job keeps its own servo settings");
     // A USB bulk endpoint has no line settings: refuse them rather than drop them.
     if (port.rfind("usb:", 0) == 0 && (baud > 0 || flow_given))
       throw UserError("--port " + port + " is a USB bulk endpoint (libusb): it has no baud rate or flow control; " +
@@ -174,7 +178,7 @@ PlotJob load_job(PlotArgs& A) {
     if (pj.resume_state.complete) throw UserError("job " + A.resume + " was already plotted to the end (journal says done)");
     if (A.port.empty() && !A.sim) A.port = pj.resume_state.header.port;
   } else {
-    pj.prepared = prepare_job({A.input, A.profile, A.job_out, A.plan, A.layout});
+    pj.prepared = prepare_job({A.input, A.profile, A.job_out, A.plan, A.layout, A.heights});
     if (!pj.prepared.layout_note.empty()) A.log("laid out on the sheet: " + pj.prepared.layout_note);
   }
   const std::string& path = pj.prepared.path;
@@ -665,6 +669,7 @@ void register_plot(CLI::App& app) {
   add_layout_options(cmd, a->layout, false);
   cmd->add_option("--margin", a->layout.margin, "SVG: margin kept by --fit and --align (a length)")
       ->capture_default_str()->group("Layout");
+  add_pen_height_options(cmd, a->heights);
   add_plan_options(cmd, a->plan);
   cmd->callback([a, rx, hs, fl, pg] {
     a->rx_buffer_given = rx->count() > 0;

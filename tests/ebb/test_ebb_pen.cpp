@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -170,4 +171,63 @@ TEST_CASE("A NextDraw's brushless pen lift: one servo channel (SC,8,1) and SP on
   CHECK(rests_on(e, "RP5", {pen.up, p30}) == std::vector<int>{p30, pen.up});
   REQUIRE(!e.pens.empty());
   CHECK(e.pens.back() == "UP");
+}
+
+TEST_CASE("plot and export take --pos-up/--pos-down on an EBB: the job's servo rests where they say", "[ebb]") {
+  test::TempDir t;
+  const stipplot::DeviceProfile prof = stipplot::find_profile("axidraw-v3");
+  const int min = prof.ebb.servo_min, range = prof.ebb.servo_max - prof.ebb.servo_min;
+  auto at = [&](double pct) { return min + static_cast<int>(std::lround(range * pct / 100)); };
+  const std::string svg = two_strokes(t);
+  // export: the job's SC,4/SC,5 and the firmware's servo follow the percentages given.
+  auto r = test::run_cli("export " + svg + " --profile axidraw-v3 --pos-up 80 --pos-down 10 --json -o " + t.file("e.ebb"));
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.find("\"pen_heights_pct\":[80.0,10.0]") != std::string::npos);
+  const auto job = lines_of(t.file("e.ebb"));
+  CHECK(std::find(job.begin(), job.end(), "SC,4," + std::to_string(at(80))) != job.end());
+  CHECK(std::find(job.begin(), job.end(), "SC,5," + std::to_string(at(10))) != job.end());
+  ebbtest::run_job_file(t.file("e.ebb"), t.file("e.log"));
+  CHECK(rests_on(pen_events(t.file("e.log")), "RP4", {at(80), at(10), at(60), at(30)}) ==
+        std::vector<int>{at(80), at(10), at(80), at(10), at(80)});
+  // plot: an SVG planned with one height given; the other is the profile's (30 %).
+  ebbtest::EbbBoard board(t.file("fw.log"));
+  auto p = test::run_cli("plot " + svg + " --profile axidraw-v3 --pos-up 75 --job " + t.file("p.ebb") + " --port " +
+                         board.port() + " --pen-change continue -q");
+  INFO(p.err);
+  REQUIRE(p.exit_code == 0);
+  board.finish();
+  CHECK(rests_on(pen_events(t.file("fw.log")), "RP4", {at(75), at(30), at(60)}) ==
+        std::vector<int>{at(75), at(30), at(75), at(30), at(75)});
+}
+
+TEST_CASE("Pen heights out of range, NaN, on a finished job or on a plotter that is not an EBB: --pos-up/--pos-down refused in one line, exit 1", "[ebb]") {
+  test::TempDir t;
+  const std::string svg = two_strokes(t);
+  const std::vector<std::string> cmds{"export " + svg + " --profile axidraw-v3 -o " + t.file("x.ebb"),
+                                      "plot " + svg + " --profile axidraw-v3 --port /dev/null", "pen down --port /dev/null"};
+  for (const std::string& cmd : cmds) {
+    for (const std::string bad : {" --pos-up 101", " --pos-down -1", " --pos-up nan", " --pos-down NaN"}) {
+      auto r = test::run_cli(cmd + bad);
+      INFO(cmd + bad << ": " << r.err);
+      CHECK(r.exit_code == 1);
+      CHECK(r.err.find(bad.substr(1, bad.find(' ', 1) - 1)) != std::string::npos);
+      CHECK(test::count_lines(r.err) == 1);
+    }
+  }
+  CHECK(!std::filesystem::exists(t.file("x.ebb")));
+  auto g = test::run_cli("export " + svg + " --profile grbl-servo --pos-down 20 -o " + t.file("g.gcode"));
+  CHECK(g.exit_code == 1);
+  CHECK(g.err.find("profile grbl-servo is not one (protocol grbl") != std::string::npos);
+  CHECK(test::count_lines(g.err) == 1);
+  CHECK(!std::filesystem::exists(t.file("g.gcode")));
+  auto pg = test::run_cli("plot " + svg + " --pos-up 70 --port /dev/null");  // the default profile, grbl-servo
+  CHECK(pg.exit_code == 1);
+  CHECK(pg.err.find("--pos-up sets an EiBotBoard") != std::string::npos);
+  CHECK(test::count_lines(pg.err) == 1);
+  REQUIRE(test::run_cli("export " + svg + " --profile axidraw-v3 -q -o " + t.file("done.ebb")).exit_code == 0);
+  auto job = test::run_cli("plot " + t.file("done.ebb") + " --pos-up 70 --port /dev/null");
+  CHECK(job.exit_code == 1);
+  CHECK(job.err.find("finished job") != std::string::npos);
+  CHECK(test::count_lines(job.err) == 1);
 }
