@@ -70,9 +70,13 @@ std::string format_devices(const DeviceList& d) {
   else {
     s += "Serial ports:\n";
     for (const auto& p : d.serial) {
+      const auto nick = d.ebb_nicknames.find(p.name);
+      const std::string named = nick == d.ebb_nicknames.end() ? ""
+                                : nick->second.empty()       ? "  (no nickname)"
+                                                             : "  nickname '" + nick->second + "' (--port ebb:" + nick->second + ")";
       if (p.vid >= 0)
-        std::snprintf(line, sizeof line, "  %-16s usb %s  %s %s%s\n", p.name.c_str(), hexid(p.vid, p.pid).c_str(),
-                      p.manufacturer.c_str(), p.product.c_str(), known_board(p.vid, p.pid).c_str());
+        std::snprintf(line, sizeof line, "  %-16s usb %s  %s %s%s%s\n", p.name.c_str(), hexid(p.vid, p.pid).c_str(),
+                      p.manufacturer.c_str(), p.product.c_str(), named.c_str(), known_board(p.vid, p.pid).c_str());
       else
         std::snprintf(line, sizeof line, "  %-16s %s  %s\n", p.name.c_str(), p.transport.c_str(), p.description.c_str());
       s += line;

@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cli/pen_heights.hpp"
 #include "drivers/device/profile.hpp"
+#include "drivers/stream/ebb/nickname.hpp"
 #include "drivers/stream/ebb/streamer.hpp"
 #include "drivers/transport/devices.hpp"
 #include "drivers/transport/transport.hpp"
@@ -35,7 +36,8 @@ void run_pen(const PenArgs& a) {
                     " is not an EiBotBoard plotter (a grbl or HPGL plotter's pen is set in its profile)");
   a.heights.apply(prof);
   const EbbPen pen = ebb_pen(prof.pen, prof.ebb);
-  const std::string port_name = a.port.empty() ? io::choose_port(io::list_devices()) : a.port;
+  const std::string port_name =
+      io::ebb::resolve_port(a.port.empty() ? io::choose_port(io::list_devices()) : a.port, prof.serial.port);
   auto port = io::open_port(port_name, prof.serial.port);
   io::ebb::Streamer st(*port, io::ebb::options_for(prof));
   st.connect();
@@ -83,7 +85,7 @@ void register_pen(CLI::App& app) {
       ->required()
       ->check(CLI::IsMember({"up", "down", "toggle", "cycle"}));
   cmd->add_option("--profile", a->profile, "EBB device profile NAME or PATH (see `stipplot profiles`)")->capture_default_str();
-  cmd->add_option("--port", a->port, "Serial port of the board (default: the one plausible device)");
+  cmd->add_option("--port", a->port, "Serial port of the board, or ebb:NAME (its nickname; default: the one plausible device)");
   add_pen_height_options(cmd, a->heights);
   cmd->add_flag("--json", a->json, "One-line JSON output");
   cmd->callback([a] { run_pen(*a); });

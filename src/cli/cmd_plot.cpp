@@ -35,6 +35,7 @@
 #include "drivers/stream/grbl/streamer.hpp"
 #include "drivers/stream/hpgl/streamer.hpp"
 #include "drivers/stream/journal.hpp"
+#include "drivers/stream/ebb/nickname.hpp"
 #include "drivers/stream/resume.hpp"
 #include "drivers/transport/devices.hpp"
 #include "drivers/transport/posix_serial.hpp"
@@ -218,13 +219,15 @@ struct PlotLink {
   std::unique_ptr<sim::SimDevice> sim;
   std::unique_ptr<io::Transport> port;
   std::string port_name;
+  std::string journal_port;  // as given: ebb:NAME finds the board again on --resume
 };
 
 PlotLink open_link(const PlotArgs& A, const PlotJob& pj) {
   PlotLink link;
   const DeviceProfile& dev = pj.device;
   if (!A.sim) {
-    link.port_name = A.port.empty() ? io::choose_port(io::list_devices()) : A.port;
+    link.journal_port = A.port.empty() ? io::choose_port(io::list_devices()) : A.port;
+    link.port_name = io::ebb::resolve_port(link.journal_port, dev.serial.port);
     link.port = io::open_port(link.port_name, dev.serial.port);
     return link;
   }
@@ -579,7 +582,7 @@ void plot(PlotArgs& A) {
   A.log("plotting " + pj.prepared.path + " (" + std::to_string(pj.job.lines.size()) + " lines) on " +
         link.port->describe());
   PlotProgress progress(A, pj.job.lines.size());
-  std::unique_ptr<io::Journal> journal = open_journal(A, pj, link.port_name);
+  std::unique_ptr<io::Journal> journal = open_journal(A, pj, link.journal_port);
   nlohmann::json s;
   s["command"] = "plot";
   s["job"] = pj.prepared.path;
@@ -635,11 +638,12 @@ void register_plot(CLI::App& app) {
       "Examples: stipplot plot job.gcode --sim\n"
       "          stipplot plot job.gcode --port /dev/ttyUSB0 --check\n"
       "          stipplot plot --resume job.gcode --port /dev/ttyUSB0\n"
-      "          stipplot plot photo.svg --profile axidraw-v3 --port /dev/ttyACM0   (an AxiDraw's EBB)");
+      "          stipplot plot photo.svg --profile axidraw-v3 --port /dev/ttyACM0   (an AxiDraw's EBB)\n"
+      "          stipplot plot photo.svg --profile nextdraw-1117 --port ebb:studio   (the EBB nicknamed studio)");
   cmd->add_option("input", a->input, "Job file (.gcode, .hpgl, .ebb) or SVG");
   cmd->add_option("--profile", a->profile, "Device profile (name or PATH): serial settings, handshake, pen, motion");
   cmd->add_option("--job", a->job_out, "Where to write the job planned from an SVG (default: IN with .gcode/.hpgl/.ebb)");
-  cmd->add_option("--port", a->port, "Serial port (/dev/ttyUSB0, COM3), usb:VID:PID, or file:PATH");
+  cmd->add_option("--port", a->port, "Serial port (/dev/ttyUSB0, COM3), usb:VID:PID, file:PATH, or ebb:NAME (the EBB of that nickname)");
   cmd->add_flag("--sim", a->sim, "Plot on the in-process simulated plotter");
   cmd->add_option("--resume", a->resume, "Continue job JOB from its journal (JOB.journal)");
   cmd->add_flag("--check", a->check, "grbl: validate every line in check mode ($C) before the pen moves");
