@@ -216,7 +216,8 @@ PenSetup read_pen(Section s, bool hpgl, bool ebb) {
   if (hpgl) {
     p.method = s.choice<PenMethod>("method", {{"hpgl", PenMethod::hpgl}});
   } else if (ebb) {
-    p.method = s.choice<PenMethod>("method", {{"ebb-servo", PenMethod::ebb}});
+    p.method = PenMethod::ebb;
+    p.ebb_brushless = s.choice<bool>("method", {{"ebb-servo", false}, {"ebb-brushless", true}});
   } else {
     p.method = s.choice<PenMethod>(
         "method", {{"servo", PenMethod::servo}, {"z", PenMethod::z_axis}, {"laser", PenMethod::laser}});
@@ -318,9 +319,7 @@ SerialSetup read_serial(Section s, bool hpgl, HpglSettings& h) {
 // An EBB's pen times from its servo (axicli's formula), and its speeds within the
 // firmware's step rate: motor 1 steps at (|vx| + |vy|) * steps_per_mm at worst.
 void finish_ebb(DeviceProfile& p, const std::string& file) {
-  const EbbPen pen = ebb_pen(p.pen, p.ebb);
-  p.motion.pen_lift_s = pen.raise_ms / 1000.0;
-  p.motion.pen_drop_s = pen.lower_ms / 1000.0;
+  set_ebb_pen_heights(p, p.pen.pos_up_pct, p.pen.pos_down_pct);
   const double worst = std::max(p.motion.speed_up_mm_s, p.motion.speed_down_mm_s) * std::sqrt(2.0) * p.ebb.steps_per_mm;
   if (worst > p.ebb.max_step_rate_hz)
     throw UserError("profile " + file + ": speeds above " +
@@ -480,7 +479,37 @@ EbbPen ebb_pen(const PenSetup& pen, const EbbSetup& e) {
   };
   out.raise_ms = static_cast<int>(travel_ms(pen.rate_raise_pct) + pen.delay_up_ms);
   out.lower_ms = static_cast<int>(travel_ms(pen.rate_lower_pct) + pen.delay_down_ms);
+  if (pen.ebb_brushless) {  // nextdraw/axidraw pen_handling.py: z_motor 1 on pin 2, SC,8,1
+    out.pin = 2;
+    out.channels = 1;
+  }
   return out;
+}
+
+void set_ebb_pen_heights(DeviceProfile& p, double up_pct, double down_pct) {
+  p.pen.pos_up_pct = up_pct;
+  p.pen.pos_down_pct = down_pct;
+  const EbbPen pen = ebb_pen(p.pen, p.ebb);
+  p.motion.pen_lift_s = pen.raise_ms / 1000.0;
+  p.motion.pen_drop_s = pen.lower_ms / 1000.0;
+}
+
+std::vector<std::string> ebb_servo_setup(const EbbPen& pen) {
+  std::vector<std::string> out = {"SC,4," + std::to_string(pen.up), "SC,5," + std::to_string(pen.down),
+                                  "SC,11," + std::to_string(pen.rate_up), "SC,12," + std::to_string(pen.rate_down)};
+  // Before the first SP: the rates above count per PWM period, one channel of 3 ms.
+  if (pen.channels > 0) out.push_back("SC,8," + std::to_string(pen.channels));
+  return out;
+}
+
+std::string ebb_pen_command(const EbbPen& pen, bool down) {
+  std::string c = down ? "SP,0," + std::to_string(pen.lower_ms) : "SP,1," + std::to_string(pen.raise_ms);
+  if (pen.pin > 0) c += "," + std::to_string(pen.pin);
+  return c;
+}
+
+std::string pen_method_name(const PenSetup& pen) {
+  return pen.method == PenMethod::ebb && pen.ebb_brushless ? "ebb-brushless" : to_string(pen.method);
 }
 
 std::string to_string(PenMethod m) {

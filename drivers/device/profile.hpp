@@ -58,6 +58,11 @@ struct PenSetup {
   double pos_up_pct = 60, pos_down_pct = 30;
   double rate_raise_pct = 75, rate_lower_pct = 50;
   double delay_up_ms = 0, delay_down_ms = 0;  // waited after the servo's own travel time
+  // ebb: the lift motor. "ebb-servo" is a standard RC servo on pin RB1 (the firmware's
+  // default, 8 PWM channels of 3 ms); "ebb-brushless" the narrow-band brushless servo of the
+  // NextDraw (and AxiDraw's penlift 3), driven as their software does: on RB2 with one
+  // channel (SC,8,1), so the rates count per 3 ms ([ebb] servo_pwm_period 0.03).
+  bool ebb_brushless = false;
 };
 
 // [ebb] (protocol ebb): an EiBotBoard machine. Two motors mixed (motor 1 = x + y, motor 2
@@ -84,8 +89,14 @@ struct EbbPen {
   int up = 0, down = 0;          // SC,4 / SC,5
   int rate_up = 0, rate_down = 0;  // SC,11 / SC,12
   int raise_ms = 0, lower_ms = 0;  // SP,1,<raise_ms> / SP,0,<lower_ms>
+  int pin = 0;                   // SP's port-B pin; 0: the firmware's default (RB1)
+  int channels = 0;              // SC,8,<channels>; 0: the firmware's default (8)
 };
 EbbPen ebb_pen(const PenSetup& pen, const EbbSetup& e);
+// The commands that set the servo up (SC,4, 5, 11, 12, and SC,8 for one channel) and that
+// lower or raise the pen (SP,0/1,<ms>[,<pin>]).
+std::vector<std::string> ebb_servo_setup(const EbbPen& pen);
+std::string ebb_pen_command(const EbbPen& pen, bool down);
 
 // [hpgl] (protocol hpgl only), and [serial] handshake.
 struct HpglSettings {
@@ -131,6 +142,10 @@ struct DeviceProfile {
   SerialSetup serial;
 };
 
+// An EBB profile's pen heights changed (percent, 0 to 100, as pos_up_pct/pos_down_pct), with
+// the pen-lift and drop times that follow from them ([motion] pen_lift_s, pen_drop_s).
+void set_ebb_pen_heights(DeviceProfile& p, double up_pct, double down_pct);
+
 // Parses and validates a profile file; throws UserError naming the file and key.
 // O(file size).
 DeviceProfile load_profile_file(const std::filesystem::path& path);
@@ -150,6 +165,8 @@ inline constexpr const char* kDefaultProfile = "grbl-servo";
 
 std::string to_string(Protocol p);
 std::string to_string(PenMethod m);
+// The [pen] method as the profile names it (ebb-servo or ebb-brushless for an EBB).
+std::string pen_method_name(const PenSetup& pen);
 
 // The handshake as `plot --handshake` names it: escb (buffer_query), xonxoff, hardware.
 HpglHandshake parse_hpgl_handshake(const std::string& s);

@@ -50,10 +50,12 @@ EbbCommand parse_ebb_command(std::string_view text, size_t line_no) {
       return fail("steps faster than the firmware's 25 per ms");
     if (c.s1 == 0 && c.s2 == 0 && c.ms > 100000) return fail("a delay SM lasts at most 100000 ms");
   } else if (c.name == "SP") {
-    if (n < 1 || n > 2 || c.args[0] < 0 || c.args[0] > 1) return fail("SP takes 0 (down) or 1 (up) and a delay");
+    if (n < 1 || n > 3 || c.args[0] < 0 || c.args[0] > 1)
+      return fail("SP takes 0 (down) or 1 (up), a delay and a pin");
     c.pen = static_cast<int>(c.args[0]);
-    c.ms = n == 2 ? c.args[1] : 0;
+    c.ms = n >= 2 ? c.args[1] : 0;
     if (c.ms < 0 || c.ms > 65535) return fail("an SP delay is 0 to 65535 ms");
+    if (n == 3 && (c.args[2] < 0 || c.args[2] > 7)) return fail("an SP pin is 0 to 7 (port B)");
   } else if (c.name == "EM" || c.name == "SC" || c.name == "CU") {
     if (n < 1 || n > 2) return fail(c.name + " takes one or two numbers");
   } else {

@@ -13,10 +13,13 @@ std::string hexid(int vid, int pid) {
   std::snprintf(b, sizeof b, "%04x:%04x", vid & 0xffff, pid & 0xffff);
   return b;
 }
-// Microchip's id for the EiBotBoard (AxiDraw, NextDraw, EggBot): said, so the user knows
-// which profiles fit.
+// Microchip's id for the EiBotBoard (AxiDraw, NextDraw, iDraw, EggBot): said, so the user
+// knows which profiles fit.
 std::string known_board(int vid, int pid) {
-  return vid == 0x04d8 && pid == 0xfd92 ? "  [EiBotBoard: AxiDraw, --profile axidraw-v3|axidraw-v3-a3|axidraw-minikit]" : "";
+  return vid == 0x04d8 && pid == 0xfd92
+             ? "  [EiBotBoard: AxiDraw, NextDraw, iDraw: --profile axidraw-v3|axidraw-v3-a3|axidraw-minikit|"
+               "nextdraw-8511|nextdraw-1117|nextdraw-2234|idraw-a4|idraw-a3]"
+             : "";
 }
 bool plausible_serial(const SerialPortInfo& p) {
   if (p.transport == "usb") return true;
@@ -67,9 +70,13 @@ std::string format_devices(const DeviceList& d) {
   else {
     s += "Serial ports:\n";
     for (const auto& p : d.serial) {
+      const auto nick = d.ebb_nicknames.find(p.name);
+      const std::string named = nick == d.ebb_nicknames.end() ? ""
+                                : nick->second.empty()       ? "  (no nickname)"
+                                                             : "  nickname '" + nick->second + "' (--port ebb:" + nick->second + ")";
       if (p.vid >= 0)
-        std::snprintf(line, sizeof line, "  %-16s usb %s  %s %s%s\n", p.name.c_str(), hexid(p.vid, p.pid).c_str(),
-                      p.manufacturer.c_str(), p.product.c_str(), known_board(p.vid, p.pid).c_str());
+        std::snprintf(line, sizeof line, "  %-16s usb %s  %s %s%s%s\n", p.name.c_str(), hexid(p.vid, p.pid).c_str(),
+                      p.manufacturer.c_str(), p.product.c_str(), named.c_str(), known_board(p.vid, p.pid).c_str());
       else
         std::snprintf(line, sizeof line, "  %-16s %s  %s\n", p.name.c_str(), p.transport.c_str(), p.description.c_str());
       s += line;

@@ -1,6 +1,7 @@
 #pragma once
 // What is plugged in: serial ports (libserialport, with USB ids) and USB devices with
 // a bulk-OUT endpoint (libusb), and which one to use when no --port is given.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,8 @@ struct DeviceList {
   // USB printer-class nodes the kernel's usblp driver made (/dev/usb/lpN): write-only
   // sinks, as many HPGL plotters and cutters present themselves.
   std::vector<std::string> printer_nodes;
+  // EiBotBoards' nicknames by port, where they were asked (QT; drivers/stream/ebb/nickname.hpp).
+  std::map<std::string, std::string> ebb_nicknames;
 };
 DeviceList list_devices();
 

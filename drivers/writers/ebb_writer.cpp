@@ -26,10 +26,7 @@ class EbbJobWriter {
 
   void header() {
     sink_("EM,1,1");  // 16x microstepping on both motors; the board counts steps from here
-    sink_("SC,4," + std::to_string(pen_.up));
-    sink_("SC,5," + std::to_string(pen_.down));
-    sink_("SC,11," + std::to_string(pen_.rate_up));
-    sink_("SC,12," + std::to_string(pen_.rate_down));
+    for (const std::string& c : ebb_servo_setup(pen_)) sink_(c);
     pen(false);
   }
 
@@ -50,7 +47,7 @@ class EbbJobWriter {
   void pause(const std::string& note) { sink_(io::ebb_pause_line(note)); }
 
  private:
-  void pen(bool down) { sink_(down ? "SP,0," + std::to_string(pen_.lower_ms) : "SP,1," + std::to_string(pen_.raise_ms)); }
+  void pen(bool down) { sink_(ebb_pen_command(pen_, down)); }
 
   // The polyline from rest to rest, timed by the planner's model and cut into SMs.
   void move(const std::vector<Vec2>& pts, double vmax) {

@@ -4,7 +4,8 @@
 // file times itself (every SM and SP says how long it takes).
 //   EM,1,1                  motors on at 16x microstepping; the position is zeroed there
 //   SC,4,.. SC,5,.. SC,11,.. SC,12,..  the pen's up/down positions and rates (axicli's)
-//   SP,1,<raise_ms>         pen up
+//   SC,8,1                  a brushless pen lift only: one servo PWM channel
+//   SP,1,<raise_ms>         pen up (SP,1,<raise_ms>,2 on a brushless lift's pin RB2)
 //   per stroke: SM,<ms>,<m1>,<m2> ... travel (pen up), SP,0,<lower_ms>, SM ... the
 //   stroke at pen-down speed, SP,1,<raise_ms>; a one-point stroke is a touch
 //   at the end: travel back to machine zero (the home corner).

@@ -25,6 +25,7 @@ struct ExportArgs {
   std::string tolerance = "0.05";
   std::string pen_width = "0.3";
   bool show_travel = false;
+  PenHeightArgs heights;
   ReportArgs report;
 };
 }  // namespace
@@ -44,6 +45,7 @@ void register_export(CLI::App& app) {
       "Examples:\n"
       "  stipplot export drawing.svg --profile grbl-servo -o drawing.gcode\n"
       "  stipplot export drawing.svg --profile axidraw-v3 -o drawing.ebb   (AxiDraw: EiBotBoard commands)\n"
+      "  stipplot export drawing.svg --profile axidraw-v3 -o drawing.ebb --pos-up 70 --pos-down 25\n"
       "  stipplot export drawing.svg --profile hp7475a-a4 -o drawing.hpgl --optimize-effort 2\n"
       "  stipplot export drawing.svg --profile hp7475a-a4 -o drawing.hpgl --fit --margin 15mm\n"
       "  stipplot export drawing.svg --profile hp7475a-a4 -o two.hpgl --layer 2 --pen-map red=3\n"
@@ -58,6 +60,7 @@ void register_export(CLI::App& app) {
   cmd->add_option("--tolerance", args->tolerance, "Curve flattening tolerance: mm (0.05, 0.05mm), cm, in, pt or px (1/96 in)")->capture_default_str()->group("Input");
   cmd->add_option("--pen-width", args->pen_width, "Pen width where the SVG gives no stroke width: mm (0.3, 0.3mm), cm, in, pt or px (1/96 in)")
       ->capture_default_str()->group("Input");
+  add_pen_height_options(cmd, args->heights, "Output");
   add_plan_options(cmd, args->plan);
   add_layout_options(cmd, args->layout, true);
   cmd->callback([args] {
@@ -70,7 +73,9 @@ void register_export(CLI::App& app) {
     (void)output_kind(a.output);
     (void)a.plan.resolve();
     check_layout_args(a.layout);
-    const DeviceProfile device = find_profile(a.profile);
+    a.heights.check();
+    DeviceProfile device = find_profile(a.profile);
+    a.heights.apply(device);  // refuses them before any work on a profile that is not an EBB's
     if (!a.preview.empty()) require_png_path("--preview", a.preview);
     check_output_paths({{"input", a.input}}, {{"-o", a.output}, {"--preview", a.preview}});
     SvgReadOptions ro;
@@ -93,7 +98,7 @@ void register_export(CLI::App& app) {
     s["page_mm"] = {d.page.width_mm, d.page.height_mm};
     s["primitives"] = d.primitive_count();
     s["seconds_read"] = read_s;
-    const Plan plan = write_planned_output(d, a.output, a.profile, a.plan, a.show_travel, s);
+    const Plan plan = write_planned_output(d, a.output, a.profile, a.plan, a.show_travel, s, a.heights);
     if (!a.preview.empty()) {
       // What the pens will draw: the plan as written, at its pens' widths and colours.
       write_png(render_plan(plan), a.preview);

@@ -4,12 +4,13 @@
 // cycled (down, then up). Jobs carry their own servo settings; this only sets up the board.
 #include <cmath>
 #include <cstdio>
-#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/pen_heights.hpp"
 #include "drivers/device/profile.hpp"
+#include "drivers/stream/ebb/nickname.hpp"
 #include "drivers/stream/ebb/streamer.hpp"
 #include "drivers/transport/devices.hpp"
 #include "drivers/transport/transport.hpp"
@@ -23,35 +24,25 @@ struct PenArgs {
   std::string action;
   std::string profile = "axidraw-v3";
   std::string port;
-  double up = std::numeric_limits<double>::quiet_NaN();
-  double down = std::numeric_limits<double>::quiet_NaN();
+  PenHeightArgs heights;
   bool json = false;
 };
 
-void check_percent(const char* option, double v) {
-  if (!std::isnan(v) && !(v >= 0 && v <= 100))
-    throw UserError(std::string(option) + " must be a percentage of the servo's range, 0 to 100");
-}
-
 void run_pen(const PenArgs& a) {
-  check_percent("--pos-up", a.up);
-  check_percent("--pos-down", a.down);
+  a.heights.check();
   DeviceProfile prof = find_profile(a.profile);
   if (prof.protocol != Protocol::ebb)
     throw UserError("pen: --profile " + prof.name +
                     " is not an EiBotBoard plotter (a grbl or HPGL plotter's pen is set in its profile)");
-  if (!std::isnan(a.up)) prof.pen.pos_up_pct = a.up;
-  if (!std::isnan(a.down)) prof.pen.pos_down_pct = a.down;
+  a.heights.apply(prof);
   const EbbPen pen = ebb_pen(prof.pen, prof.ebb);
-  const std::string port_name = a.port.empty() ? io::choose_port(io::list_devices()) : a.port;
+  const std::string port_name =
+      io::ebb::resolve_port(a.port.empty() ? io::choose_port(io::list_devices()) : a.port, prof.serial.port);
   auto port = io::open_port(port_name, prof.serial.port);
   io::ebb::Streamer st(*port, io::ebb::options_for(prof));
   st.connect();
-  st.command("SC,4," + std::to_string(pen.up));
-  st.command("SC,5," + std::to_string(pen.down));
-  st.command("SC,11," + std::to_string(pen.rate_up));
-  st.command("SC,12," + std::to_string(pen.rate_down));
-  const std::string raise = "SP,1," + std::to_string(pen.raise_ms), lower = "SP,0," + std::to_string(pen.lower_ms);
+  for (const std::string& c : ebb_servo_setup(pen)) st.command(c);
+  const std::string raise = ebb_pen_command(pen, false), lower = ebb_pen_command(pen, true);
   if (a.action == "up") {
     st.command(raise);
   } else if (a.action == "down") {
@@ -85,17 +76,17 @@ void register_pen(CLI::App& app) {
       "pen", "Set an AxiDraw-class (EiBotBoard) plotter's pen heights and raise, lower, toggle or cycle the pen");
   cmd->footer(
       "Heights are percent of the servo's range, as axicli's pen_pos_up and pen_pos_down (the profile's\n"
-      "unless given). A job keeps its own settings: put the same --pos-up/--pos-down in a profile of your\n"
-      "own (pos_up_pct, pos_down_pct) for plots. Without --port the one plausible device is used.\n"
+      "unless given). A job keeps its own settings: give plot and export the same --pos-up/--pos-down,\n"
+      "or put them in a profile of your own (pos_up_pct, pos_down_pct). Without --port the one\n"
+      "plausible device is used.\n"
       "Examples: stipplot pen cycle --pos-down 25            (lower to 25 %, raise to the profile's 60 %)\n"
       "          stipplot pen toggle --port /dev/ttyACM0 --profile axidraw-v3-a3");
   cmd->add_option("action", a->action, "up | down | toggle | cycle (down, then up)")
       ->required()
       ->check(CLI::IsMember({"up", "down", "toggle", "cycle"}));
   cmd->add_option("--profile", a->profile, "EBB device profile NAME or PATH (see `stipplot profiles`)")->capture_default_str();
-  cmd->add_option("--port", a->port, "Serial port of the board (default: the one plausible device)");
-  cmd->add_option("--pos-up", a->up, "Pen-up height, percent of the servo's range (0-100; axicli pen_pos_up)");
-  cmd->add_option("--pos-down", a->down, "Pen-down height, percent of the servo's range (0-100; axicli pen_pos_down)");
+  cmd->add_option("--port", a->port, "Serial port of the board, or ebb:NAME (its nickname; default: the one plausible device)");
+  add_pen_height_options(cmd, a->heights);
   cmd->add_flag("--json", a->json, "One-line JSON output");
   cmd->callback([a] { run_pen(*a); });
 }

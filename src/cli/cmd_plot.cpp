@@ -35,6 +35,7 @@
 #include "drivers/stream/grbl/streamer.hpp"
 #include "drivers/stream/hpgl/streamer.hpp"
 #include "drivers/stream/journal.hpp"
+#include "drivers/stream/ebb/nickname.hpp"
 #include "drivers/stream/resume.hpp"
 #include "drivers/transport/devices.hpp"
 #include "drivers/transport/posix_serial.hpp"
@@ -66,6 +67,7 @@ struct PlotArgs {
   std::string input, profile, port, resume, job_out;
   PlanArgs plan;      // an SVG's planning
   LayoutArgs layout;  // an SVG's layout on the profile's sheet
+  PenHeightArgs heights;  // an SVG's pen heights on an EBB
   bool page_given = false, flow_given = false, handshake_given = false, rx_buffer_given = false;
   bool sim = false, check = false, json = false, quiet = false, skip_errors = false, unlock = false, newline = false;
   bool control = false;  // driven by another program through stdin (stipplot serve)
@@ -77,6 +79,9 @@ struct PlotArgs {
   void validate() const {
     if (input.empty() && resume.empty()) throw UserError("give a job to plot, or --resume JOB");
     if (sim && !port.empty()) throw UserError("--sim and --port exclude each other");
+    heights.check();
+    if (!resume.empty() && heights.any_given())
+      throw UserError("--pos-up/--pos-down apply to an SVG drawing; a resumed job keeps its own servo settings");
     // A USB bulk endpoint has no line settings: refuse them rather than drop them.
     if (port.rfind("usb:", 0) == 0 && (baud > 0 || flow_given))
       throw UserError("--port " + port + " is a USB bulk endpoint (libusb): it has no baud rate or flow control; " +
@@ -174,7 +179,7 @@ PlotJob load_job(PlotArgs& A) {
     if (pj.resume_state.complete) throw UserError("job " + A.resume + " was already plotted to the end (journal says done)");
     if (A.port.empty() && !A.sim) A.port = pj.resume_state.header.port;
   } else {
-    pj.prepared = prepare_job({A.input, A.profile, A.job_out, A.plan, A.layout});
+    pj.prepared = prepare_job({A.input, A.profile, A.job_out, A.plan, A.layout, A.heights});
     if (!pj.prepared.layout_note.empty()) A.log("laid out on the sheet: " + pj.prepared.layout_note);
   }
   const std::string& path = pj.prepared.path;
@@ -214,13 +219,15 @@ struct PlotLink {
   std::unique_ptr<sim::SimDevice> sim;
   std::unique_ptr<io::Transport> port;
   std::string port_name;
+  std::string journal_port;  // as given: ebb:NAME finds the board again on --resume
 };
 
 PlotLink open_link(const PlotArgs& A, const PlotJob& pj) {
   PlotLink link;
   const DeviceProfile& dev = pj.device;
   if (!A.sim) {
-    link.port_name = A.port.empty() ? io::choose_port(io::list_devices()) : A.port;
+    link.journal_port = A.port.empty() ? io::choose_port(io::list_devices()) : A.port;
+    link.port_name = io::ebb::resolve_port(link.journal_port, dev.serial.port);
     link.port = io::open_port(link.port_name, dev.serial.port);
     return link;
   }
@@ -575,7 +582,7 @@ void plot(PlotArgs& A) {
   A.log("plotting " + pj.prepared.path + " (" + std::to_string(pj.job.lines.size()) + " lines) on " +
         link.port->describe());
   PlotProgress progress(A, pj.job.lines.size());
-  std::unique_ptr<io::Journal> journal = open_journal(A, pj, link.port_name);
+  std::unique_ptr<io::Journal> journal = open_journal(A, pj, link.journal_port);
   nlohmann::json s;
   s["command"] = "plot";
   s["job"] = pj.prepared.path;
@@ -631,11 +638,12 @@ void register_plot(CLI::App& app) {
       "Examples: stipplot plot job.gcode --sim\n"
       "          stipplot plot job.gcode --port /dev/ttyUSB0 --check\n"
       "          stipplot plot --resume job.gcode --port /dev/ttyUSB0\n"
-      "          stipplot plot photo.svg --profile axidraw-v3 --port /dev/ttyACM0   (an AxiDraw's EBB)");
+      "          stipplot plot photo.svg --profile axidraw-v3 --port /dev/ttyACM0   (an AxiDraw's EBB)\n"
+      "          stipplot plot photo.svg --profile nextdraw-1117 --port ebb:studio   (the EBB nicknamed studio)");
   cmd->add_option("input", a->input, "Job file (.gcode, .hpgl, .ebb) or SVG");
   cmd->add_option("--profile", a->profile, "Device profile (name or PATH): serial settings, handshake, pen, motion");
   cmd->add_option("--job", a->job_out, "Where to write the job planned from an SVG (default: IN with .gcode/.hpgl/.ebb)");
-  cmd->add_option("--port", a->port, "Serial port (/dev/ttyUSB0, COM3), usb:VID:PID, or file:PATH");
+  cmd->add_option("--port", a->port, "Serial port (/dev/ttyUSB0, COM3), usb:VID:PID, file:PATH, or ebb:NAME (the EBB of that nickname)");
   cmd->add_flag("--sim", a->sim, "Plot on the in-process simulated plotter");
   cmd->add_option("--resume", a->resume, "Continue job JOB from its journal (JOB.journal)");
   cmd->add_flag("--check", a->check, "grbl: validate every line in check mode ($C) before the pen moves");
@@ -665,6 +673,7 @@ void register_plot(CLI::App& app) {
   add_layout_options(cmd, a->layout, false);
   cmd->add_option("--margin", a->layout.margin, "SVG: margin kept by --fit and --align (a length)")
       ->capture_default_str()->group("Layout");
+  add_pen_height_options(cmd, a->heights);
   add_plan_options(cmd, a->plan);
   cmd->callback([a, rx, hs, fl, pg] {
     a->rx_buffer_given = rx->count() > 0;

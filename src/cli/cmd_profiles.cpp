@@ -41,7 +41,7 @@ void register_profiles(CLI::App& app) {
         j.push_back({{"name", p.name},
                      {"description", p.description},
                      {"protocol", to_string(p.protocol)},
-                     {"pen_method", to_string(p.pen.method)},
+                     {"pen_method", pen_method_name(p.pen)},
                      {"travel_mm", {p.machine.travel_x_mm, p.machine.travel_y_mm}},
                      {"pens", p.pen.count},
                      {"file", p.source.string()}});

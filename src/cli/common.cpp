@@ -127,9 +127,11 @@ void write_plan_file(const Plan& plan, const std::string& path, const DeviceProf
 }
 
 Plan write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
-                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary) {
+                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary,
+                          const PenHeightArgs& heights) {
   const OutputKind kind = output_kind(path);
   DeviceProfile prof = find_profile(profile);
+  heights.apply(prof);
   check_profile_for(kind, path, profile);
   const PlanOptions po = plan_options_for(prof, d.page, plan_args);
   auto t0 = std::chrono::steady_clock::now();
@@ -139,6 +141,7 @@ Plan write_planned_output(const Drawing& d, const std::string& path, const std::
   auto t1 = std::chrono::steady_clock::now();
   summary["output"] = path;
   summary["profile"] = prof.name;
+  if (heights.any_given()) summary["pen_heights_pct"] = {prof.pen.pos_up_pct, prof.pen.pos_down_pct};
   // A G-code or EBB job ends with the pen back at machine zero, an HPGL job where it stops.
   summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin, kind == OutputKind::gcode || kind == OutputKind::ebb));
   write_plan_file(plan, path, prof, show_travel, &summary["plan"]);

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 
+#include "cli/pen_heights.hpp"
 #include "cli/plan_options.hpp"
 #include "drivers/device/profile.hpp"
 #include "geometry/drawing.hpp"
@@ -54,9 +55,11 @@ void check_profile_for(OutputKind kind, const std::string& path, const std::stri
 // Plans the drawing with the profile's motion limits, writes G-code, HPGL or the planned
 // SVG (by the extension of `path`) atomically, and adds the profile, the plan's statistics
 // (pen-down/up length, lifts, estimated time) and the timings to `summary`. The plan
-// written is returned: what a pen-true preview of the output renders.
+// written is returned: what a pen-true preview of the output renders. `heights` override
+// an EBB profile's pen heights.
 Plan write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
-                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary);
+                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary,
+                          const PenHeightArgs& heights = {});
 
 // The planner's options for a profile: the pen starts at machine zero, so planning
 // starts from there (in page coordinates).

@@ -69,6 +69,9 @@ PreparedJob prepare_job(const PlotJobRequest& r) {
   if (is_job_file(r.input)) {
     if (r.layout.any_given())
       throw UserError("layout and layer options apply to an SVG drawing; " + r.input + " is a finished job, plotted as it is");
+    if (r.heights.any_given())
+      throw UserError("--pos-up/--pos-down apply to an SVG drawing; " + r.input +
+                      " is a finished job with its own servo settings (export it again with them)");
     return {r.input, dialect_of(r.input), r.profile, {}};
   }
   if (!has_extension(r.input, ".svg"))
@@ -76,6 +79,7 @@ PreparedJob prepare_job(const PlotJobRequest& r) {
                     "stipplot stipple photo.jpg -o photo.svg) and plot the SVG");
   const std::string profile = r.profile.empty() ? kDefaultProfile : r.profile;
   DeviceProfile prof = find_profile(profile);
+  r.heights.apply(prof);  // refused before any work on a profile that is not an EBB's
   check_layout_args(r.layout);
   (void)r.plan.resolve();
   Drawing d = read_svg(r.input);
@@ -88,7 +92,7 @@ PreparedJob prepare_job(const PlotJobRequest& r) {
   std::string path = r.job_out.empty() ? std::filesystem::path(r.input).replace_extension(extension_of(dialect)).string()
                                        : r.job_out;
   if (!r.job_out.empty()) check_job_name(path, prof);
-  write_planned_output(d, path, profile, r.plan, false, plan_summary);
+  write_planned_output(d, path, profile, r.plan, false, plan_summary, r.heights);
   commit_staged_outputs();  // streamed from the file
   return {path, dialect, prof.name, note};
 }

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "cli/layout_options.hpp"
+#include "cli/pen_heights.hpp"
 #include "cli/plan_options.hpp"
 #include "drivers/device/profile.hpp"
 #include "drivers/job/job.hpp"
@@ -15,6 +16,7 @@ struct PlotJobRequest {
   std::string input, profile, job_out;
   PlanArgs plan;      // for an SVG
   LayoutArgs layout;  // for an SVG: a job file is plotted as it is
+  PenHeightArgs heights;  // for an SVG on an EBB: the job carries its servo settings
 };
 struct PreparedJob {
   std::string path;  // the job file streamed (and journalled as PATH.journal)

@@ -207,16 +207,19 @@ Comparison compare_marks(const std::vector<Path>& plan, const std::vector<Path>&
   return c;
 }
 
-EbbBoard::EbbBoard(const std::string& log, bool realtime) {
+EbbBoard::EbbBoard(const std::string& log, bool realtime, const std::string& flash) {
   const std::string exe = ensure_ebb_sim();
+  std::vector<const char*> argv{exe.c_str(), "-l", log.c_str()};
+  if (realtime) argv.push_back("-r");
+  if (!flash.empty()) argv.insert(argv.end(), {"-f", flash.c_str()});
+  argv.push_back(nullptr);
   int in[2], out[2];
   if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("pipe failed");
   pid_ = ::fork();
   if (pid_ == 0) {
     ::dup2(in[0], 0);
     ::dup2(out[1], 1);
-    if (realtime) ::execl(exe.c_str(), exe.c_str(), "-r", "-l", log.c_str(), static_cast<char*>(nullptr));
-    ::execl(exe.c_str(), exe.c_str(), "-l", log.c_str(), static_cast<char*>(nullptr));
+    ::execv(exe.c_str(), const_cast<char* const*>(argv.data()));
     ::_exit(127);
   }
   ::close(in[0]);

@@ -68,8 +68,9 @@ Comparison compare_marks(const std::vector<Path>& plan, const std::vector<Path>&
 class EbbBoard {
  public:
   // realtime: simulated time paced to the wall clock (ebb_sim -r), as a real board runs;
-  // otherwise as fast as the CPU allows, about 80 times the wall clock.
-  explicit EbbBoard(const std::string& log, bool realtime = false);
+  // otherwise as fast as the CPU allows, about 80 times the wall clock. flash: the board's
+  // persistent flash image (ebb_sim -f; the ST nickname lives there), none if empty.
+  explicit EbbBoard(const std::string& log, bool realtime = false, const std::string& flash = "");
   ~EbbBoard();
   EbbBoard(const EbbBoard&) = delete;
   EbbBoard& operator=(const EbbBoard&) = delete;

@@ -35,6 +35,48 @@ TEST_CASE("AxiDraw profiles carry axidraw_conf's numbers and axicli's pen", "[eb
   CHECK(find_profile("axidraw-minikit").machine.travel_y_mm == Approx(101.6));
 }
 
+TEST_CASE("NextDraw profiles carry nextdraw_conf's numbers and the brushless lift, iDraw ones its extension's", "[ebb]") {
+  const DeviceProfile nd = find_profile("nextdraw-8511");
+  CHECK(nd.protocol == Protocol::ebb);
+  CHECK(nd.machine.travel_x_mm == Approx(11.81 * 25.4).margin(0.01));
+  CHECK(nd.machine.travel_y_mm == Approx(8.58 * 25.4).margin(0.01));
+  CHECK(nd.ebb.steps_per_mm == 80);
+  CHECK(nd.motion.speed_down_mm_s == Approx(25 * 8.6979 / 100 * 25.4).epsilon(1e-3));
+  CHECK(nd.motion.speed_up_mm_s == Approx(75 * 8.6979 / 100 * 25.4).epsilon(1e-3));
+  // The S-curve's jerk (20000 x derate x 0.75^3 in/s^3) as the acceleration of the same time.
+  for (const auto& [name, derate] : {std::pair{"nextdraw-8511", 1.0}, {"nextdraw-1117", 0.9}, {"nextdraw-2234", 0.6}})
+    CHECK(find_profile(name).motion.accel_mm_s2 ==
+          Approx(std::sqrt(25 * 8.6979 / 100 * 20000 * derate * 0.421875) / 2 * 25.4).epsilon(1e-3));
+  CHECK(nd.pen.ebb_brushless);
+  CHECK(pen_method_name(nd.pen) == "ebb-brushless");
+  CHECK(nd.ebb.fifo_commands == 16);
+  const EbbPen pen = ebb_pen(nd.pen, nd.ebb);
+  CHECK(pen.up == 9720);  // 5400 + 72 * 60
+  CHECK(pen.down == 8280);
+  CHECK(pen.rate_up == 231);  // 7200 * 0.03 / 70 * 75
+  CHECK(pen.rate_down == 154);
+  CHECK(pen.raise_ms == 45);  // ((1.28*20+20)^4 + (70*20/75)^4)^(1/4)
+  CHECK(pen.lower_ms == 47);
+  CHECK(ebb_servo_setup(pen).back() == "SC,8,1");
+  CHECK(ebb_pen_command(pen, true) == "SP,0,47,2");
+  CHECK(ebb_pen_command(pen, false) == "SP,1,45,2");
+  CHECK(find_profile("nextdraw-1117").machine.travel_x_mm == Approx(16.93 * 25.4).margin(0.01));
+  CHECK(find_profile("nextdraw-2234").machine.travel_y_mm == Approx(23.39 * 25.4).margin(0.01));
+  const DeviceProfile id = find_profile("idraw-a4");
+  CHECK(!id.pen.ebb_brushless);
+  CHECK(id.ebb.steps_per_mm == 100);  // DPI_16X 2540
+  CHECK(id.motion.speed_down_mm_s == Approx(25 * 24950.0 / 110 / (2540 * std::sqrt(2.0)) * 25.4).epsilon(1e-3));
+  const EbbPen ip = ebb_pen(id.pen, id.ebb);
+  CHECK(ip.up == 11600);  // 7500 + 205 * 20: iDraw's up is below its down
+  CHECK(ip.down == 15700);
+  CHECK(ip.rate_up == 750);  // idraw.py: 5 * 150 %/s
+  CHECK(ip.raise_ms == 133);  // 1000 * 20 / 150
+  CHECK(ip.lower_ms == 133);
+  CHECK(ebb_pen_command(ip, false) == "SP,1,133");
+  CHECK(ebb_servo_setup(ip).size() == 4);
+  CHECK(find_profile("idraw-a3").machine.travel_x_mm == 420);
+}
+
 TEST_CASE("An EBB profile refuses speeds past the firmware's step rate", "[ebb]") {
   std::string text = R"(name = "fast"
 description = "x"
@@ -83,6 +125,10 @@ newline = false
   REQUIRE_THROWS_WITH(parse_profile(text, "fast.toml"), Catch::Contains("25 kHz"));
   text.replace(text.find("speed_up_mm_s = 400"), 19, "speed_up_mm_s = 150");
   CHECK(parse_profile(text, "ok.toml").motion.pen_drop_s == Approx(0.146));
+  text.replace(text.find("ebb-servo"), 9, "ebb-brushless");
+  CHECK(parse_profile(text, "nb.toml").pen.ebb_brushless);
+  text.replace(text.find("ebb-brushless"), 13, "ebb-solenoid");
+  CHECK_THROWS_WITH(parse_profile(text, "bad.toml"), Catch::Contains("pen.method must be one of ebb-servo|ebb-brushless"));
 }
 
 TEST_CASE("SM slices end exactly on the plan's step positions within the firmware's rate", "[ebb]") {

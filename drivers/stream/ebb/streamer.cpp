@@ -168,7 +168,7 @@ void Streamer::connect() {
     } else {
       command("CU,10,0");
     }
-    command("CU,4," + std::to_string(o_.fifo));  // waits for the FIFO to empty first
+    if (o_.setup) command("CU,4," + std::to_string(o_.fifo));  // waits for the FIFO to empty first
   } else if (o_.standardized) {
     throw UserError("EBB firmware " + v + " has no standardized replies (CU,10 is 3.x)");
   }
@@ -182,6 +182,14 @@ std::array<int64_t, 2> Streamer::position() {
 }
 
 bool Streamer::pen_up() { return std::atoi(command("QP").c_str()) != 0; }
+
+std::string Streamer::nickname() {
+  try {
+    return command("QT");
+  } catch (const DeviceError&) {  // a firmware without QT (before 2.5.5) has no nickname
+    return "";
+  }
+}
 
 bool Streamer::idle() {
   const std::string r = command("QG");

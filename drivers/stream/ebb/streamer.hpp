@@ -42,6 +42,9 @@ struct Options {
   // board is stuck or gone.
   Millis watchdog{20000};
   bool standardized = false;  // 3.x: CU,10,1 replies
+  // connect() lengthens the FIFO (CU,4); off for a look at a board (V, QT) that leaves its
+  // motion settings as they are.
+  bool setup = true;
   PauseFn on_pause;
   std::function<void(const std::string&)> log;
 };
@@ -60,6 +63,7 @@ class Streamer {
   std::array<int64_t, 2> position();  // QS: motor steps
   bool pen_up();                      // QP
   bool idle();                        // QG: FIFO empty, nothing executing
+  std::string nickname();             // QT: the name ST gave the board ("" for none)
   void wait_idle(double max_seconds);
   // Where a job left on this board goes on: the first line after the one whose end the
   // board's position and pen match, from the journal's last acknowledged line up to the
