@@ -30,7 +30,10 @@ phase "set-up for the tests"
 fw_log=build/ci-firmware.log
 (cd build && ctest --output-on-failure -L firmware) >"$fw_log" 2>&1 &
 firmware=$!
-nice -n 19 bash scripts/fuzz.sh build >build/ci-fuzz-build.log 2>&1 &
+# The EBB oracle (ebb_sim) is built there too, before its phase needs it (its tests skip
+# the build when the program is there).
+(nice -n 19 bash scripts/fuzz.sh build && nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim") \
+  >build/ci-fuzz-build.log 2>&1 &
 fuzz_build=$!
 status=0
 (cd build && nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults') || status=1
@@ -40,7 +43,7 @@ cat "$fw_log"
 phase "firmware tests (beside the tests)"
 if ! wait "$fuzz_build"; then
   tail -30 build/ci-fuzz-build.log >&2
-  echo "test.sh: building the fuzz targets failed" >&2
+  echo "test.sh: building the fuzz targets or ebb_sim failed" >&2
   status=1
 fi
 [ "$status" -eq 0 ] || exit 1
