@@ -62,7 +62,12 @@ inline Job dots_job(const std::string& profile, const std::string& out,
 
 inline Job tree_job(const std::string& profile, const std::string& out,
                     const std::string& extra = "--page 40x30mm --margin 2 -a 7.5 -b 12") {
-  auto r = test::run_cli("tree " + example("horse.png") + " " + extra + " --profile " + profile + " -o " + out + " --json");
+  // --law linear: the paper's tree spans the whole picture. The default tone law leaves
+  // horse.png's white ground empty, and on these small pages the job shrank to a couple of
+  // dozen lines, too few for a fault "mid-plot" (a soft reset at half its lines landed in
+  // the first rapid move).
+  auto r = test::run_cli("tree " + example("horse.png") + " " + extra + " --law linear --profile " + profile + " -o " + out +
+                         " --json");
   if (r.exit_code != 0) throw std::runtime_error("stipplot tree failed: " + r.err);
   return {out, last_json(r.out)["plan"]["total"]["seconds"].get<double>()};
 }
