@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "methods/link_rule.hpp"
 #include "plan/tour.hpp"
 #include "util/error.hpp"
 
@@ -31,18 +32,10 @@ struct Field {
   }
 };
 
-bool lifted(const Field& f, const LinkParams& p, double half_cell, Vec2 a, Vec2 b) {
-  const double len = std::hypot(b.x - a.x, b.y - a.y);
-  if (len > p.lift_length * std::max(f.spacing(a), f.spacing(b))) return true;
-  const double ends = 0.5 * (f.at(a) + f.at(b));
-  if (!(ends > 0)) return true;  // both ends on ground this pen is not for
-  const int n = std::max(2, static_cast<int>(std::ceil(len / half_cell)) + 1);
-  double sum = 0;
-  for (int i = 0; i < n; ++i) {
-    const double t = static_cast<double>(i) / (n - 1);
-    sum += f.at({a.x + t * (b.x - a.x), a.y + t * (b.y - a.y)});
-  }
-  return sum / n < p.lift_tone * ends;
+bool lifted(const Field& f, const LinkParams& p, double cell_mm, Vec2 a, Vec2 b) {
+  if (!(f.at(a) + f.at(b) > 0)) return true;  // both ends on ground this pen is not for
+  return link_lifted(a, b, std::max(f.spacing(a), f.spacing(b)), cell_mm, p.lift_length, p.lift_tone,
+                     [&](Vec2 q) { return f.at(q); });  // float, as the grid holds it
 }
 
 Layer link_layer(const Field& f, const Layer& in, const LinkParams& p, LinkStats& st) {
@@ -69,7 +62,7 @@ Layer link_layer(const Field& f, const Layer& in, const LinkParams& p, LinkStats
   to.seconds_cap = p.tour_seconds_cap;
   to.seed = p.seed;
   const std::vector<uint32_t> path = plan::plan_tour(ends, partner, {0, 0}, to);
-  const double half_cell = 0.5 * std::min(f.r.cell_w_mm, f.r.cell_h_mm);
+  const double cell = std::min(f.r.cell_w_mm, f.r.cell_h_mm);
   Polyline run;
   for (size_t i = 0; i + 1 < path.size(); i += 2) {
     // path[i] enters stroke path[i] / 2 and path[i + 1] leaves it.
@@ -77,7 +70,7 @@ Layer link_layer(const Field& f, const Layer& in, const LinkParams& p, LinkStats
     const bool reversed = path[i] % 2 == 1;
     if (!run.pts.empty()) {
       const Vec2 a = run.pts.back(), b = reversed ? s.pts.back() : s.pts.front();
-      if (lifted(f, p, half_cell, a, b)) {
+      if (lifted(f, p, cell, a, b)) {
         out.lines.push_back(std::move(run));
         run = Polyline{};
       } else {

@@ -1,5 +1,7 @@
 #include "methods/stipple/connect.hpp"
 
+#include "methods/link_rule.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -94,17 +96,9 @@ double widest_radius(const pds::RadiusTable& r) {
 
 bool lifted(const StippleCanvas& c, const pds::RadiusTable& radius, double widest, const std::array<double, 256>& tone,
             const ConnectParams& p, Vec2 a, Vec2 b) {
-  const double len = std::hypot(b.x - a.x, b.y - a.y);
   const double spacing = std::max(spacing_at(c, radius, widest, a), spacing_at(c, radius, widest, b));
-  if (len > p.lift_length * spacing) return true;
-  const double ends = 0.5 * (tone_at(c, tone, a) + tone_at(c, tone, b));
-  const int n = std::max(2, static_cast<int>(std::ceil(2 * len / c.grid.cell_mm)) + 1);
-  double sum = 0;
-  for (int i = 0; i < n; ++i) {
-    const double f = static_cast<double>(i) / (n - 1);
-    sum += tone_at(c, tone, {a.x + f * (b.x - a.x), a.y + f * (b.y - a.y)});
-  }
-  return sum / n < p.lift_tone * ends;
+  return link_lifted(a, b, spacing, c.grid.cell_mm, p.lift_length, p.lift_tone,
+                     [&](Vec2 q) { return tone_at(c, tone, q); });
 }
 }  // namespace
 
