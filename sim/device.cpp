@@ -19,8 +19,10 @@ double SimDevice::device_time() const {
 
 void SimDevice::attach(std::unique_ptr<SimLink> link) {
   {
+    // Parked until the serve thread takes it: that thread may still be in the old link's
+    // hang-up (a power loss or a dropped line), and must not close or read the new one.
     std::lock_guard lk(link_m_);
-    link_ = std::move(link);
+    next_link_ = std::move(link);
     new_link_ = true;
     connected_ = true;
   }
@@ -43,6 +45,7 @@ std::string SimDevice::open_pty() {
 
 std::string SimDevice::link_name() const {
   std::lock_guard lk(const_cast<std::mutex&>(link_m_));
+  if (next_link_) return next_link_->name();
   return link_ ? link_->name() : "";
 }
 
@@ -51,6 +54,7 @@ void SimDevice::stop() {
   link_cv_.notify_all();
   if (thread_.joinable()) thread_.join();
   if (link_) link_->close();
+  if (next_link_) next_link_->close();
 }
 
 std::vector<Segment> SimDevice::record() const {
@@ -124,6 +128,8 @@ void SimDevice::serve() {
       std::lock_guard lk(link_m_);
       if (new_link_) {
         new_link_ = false;
+        link_ = std::move(next_link_);
+        connected_ = true;  // again: the old link's hang-up may have cleared it after attach
         linked = true;
         client_present_ = false;
         wire_in_.clear();

@@ -114,7 +114,8 @@ class SimDevice {
   void disconnect(double t);
   double speedup_;
   std::chrono::steady_clock::time_point t0_;
-  std::unique_ptr<SimLink> link_;
+  std::unique_ptr<SimLink> link_;  // the serve thread's alone once it runs: only it swaps links
+  std::unique_ptr<SimLink> next_link_;  // a link attached while the old one may still be in use
   std::thread thread_;
   std::atomic<bool> stop_{false}, connected_{false};
   std::mutex link_m_;
