@@ -25,22 +25,24 @@ cat build/setup-test.log
 phase "set-up for the tests"
 # Three lanes at once. The firmware tests (tests/firmware: the real grbl 1.1h AVR binary on
 # simavr, paced to the wall clock, one at a time, a test passes first time or fails) need
-# under a core and run at normal priority, as a plotter's host does; the other tests run
-# beside them at nice 10 on every core, and the fuzz targets build at nice 19.
+# under a core and run at normal priority, as a plotter's host does; after them, in the
+# same lane, the EBB firmware tests (tests/ebb: the EiBotBoard firmware v3.0.2 compiled for
+# the PC, ebb_sim, streaming AxiDraw jobs). The other tests run beside them at nice 10 on
+# every core, one more at a time than there are cores (a third of their time is spent
+# waiting on simulated plotters), and ebb_sim and the fuzz targets build at nice 19.
 fw_log=build/ci-firmware.log
-(cd build && ctest --output-on-failure -L firmware) >"$fw_log" 2>&1 &
+(cd build && ctest --output-on-failure -L firmware && ctest --output-on-failure -L ebb) >"$fw_log" 2>&1 &
 firmware=$!
-# The EBB oracle (ebb_sim) is built there too, before its phase needs it (its tests skip
-# the build when the program is there).
-(nice -n 19 bash scripts/fuzz.sh build && nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim") \
+# ebb_sim first (a second or two), so that the EBB tests find it built.
+(nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" && nice -n 19 bash scripts/fuzz.sh build) \
   >build/ci-fuzz-build.log 2>&1 &
 fuzz_build=$!
 status=0
-(cd build && nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults') || status=1
+(cd build && nice -n 10 ctest --output-on-failure -j "$(($(nproc) + 1))" -LE 'firmware|ebb|realtime|faults') || status=1
 phase "tests"
 wait "$firmware" || status=1
 cat "$fw_log"
-phase "firmware tests (beside the tests)"
+phase "firmware and EBB firmware tests (beside the tests)"
 if ! wait "$fuzz_build"; then
   tail -30 build/ci-fuzz-build.log >&2
   echo "test.sh: building the fuzz targets or ebb_sim failed" >&2
@@ -48,8 +50,9 @@ if ! wait "$fuzz_build"; then
 fi
 [ "$status" -eq 0 ] || exit 1
 # Faults injected into the built-in simulators (label faults), on a machine with nothing
-# else running: the simulators' clocks are the wall clock sped up.
-(cd build && ctest --output-on-failure -j "$(nproc)" -L faults)
+# else running: the simulators' clocks are the wall clock sped up. They spend nearly all
+# their time waiting on those clocks, so twice as many run as there are cores.
+(cd build && ctest --output-on-failure -j "$((2 * $(nproc)))" -L faults)
 phase "simulator fault tests"
 # [realtime] times a simulated plot against the wall clock, one test at a time; it sleeps
 # most of that time, so the fuzz targets run meanwhile at nice 19 (a fuzzer's run is so
@@ -62,7 +65,3 @@ wait "$fuzz_run" || status=1
 cat build/ci-fuzz-run.log
 phase "fuzzing (beside the real-time tests)"
 [ "$status" -eq 0 ] || exit 1
-# The EiBotBoard firmware v3.0.2 compiled for the PC (ebb_sim, tests/ebb): built into the
-# build tree by the first test that needs it, then AxiDraw jobs streamed to it.
-(cd build && ctest --output-on-failure -j "$(nproc)" -L ebb)
-phase "EBB firmware tests"

@@ -8,7 +8,7 @@
 #   photo.jpg -> shared/images/coffee.png, text.png -> shared/images/text.png,
 #   moon.png -> shared/images/hubble_deep_field.jpg, my-pens.toml -> examples/pens/fineliner12.toml.
 # Examples that need hardware (--port, devices, sim, pen) and the server (serve) are skipped; plot --sim runs with
-# --sim-speedup 1000 (what the simulator draws does not depend on its clock).
+# --sim-speedup 100000 (what the simulator draws does not depend on its clock).
 #   readme_examples.sh STIPPLOT_BIN SOURCE_DIR SHARED_DIR [--check FILE | --update FILE]
 set -euo pipefail
 bin=$(realpath "$1"); src=$(realpath "$2"); shared=$(realpath "$3"); mode=${4:-}; golden=${5:+$(realpath -m "$5")}
@@ -32,7 +32,7 @@ for line in "${cmds[@]}"; do
   esac
   n=$((n + 1))
   run=${line//stipplot /\"\$bin\" }
-  [[ "$line" == *" plot "*"--sim"* ]] && run="$run --sim-speedup 1000 --quiet"
+  [[ "$line" == *" plot "*"--sim"* ]] && run="$run --sim-speedup 100000 --quiet"
   touch "$work/.mark"; sleep 0.01
   echo "\$ $line" >> "$out"
   rc=0; stdout=$(eval "$run" 2>"$work/.stderr") || rc=$?
