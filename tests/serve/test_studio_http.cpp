@@ -249,6 +249,7 @@ TEST_CASE("serve http: a plot asks for each pen by name, and an aborted one resu
   RunningStudio s(config(dir));
   auto cl = s.client();
   json st = start_cmyk_plot(cl);
+  INFO("the plot's state: " << st.dump().substr(0, 2000));
   CHECK(cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json")->status == 409);  // one plot per device
   REQUIRE(st["status"] == "pen_change");
   // Light inks first: yellow, cyan, magenta, black.
@@ -290,6 +291,7 @@ TEST_CASE("serve http: a plot an earlier server left unfinished is offered for r
     RunningStudio s(config(dir));
     auto cl = s.client();
     json st = start_cmyk_plot(cl);
+    INFO("the plot's state: " << st.dump().substr(0, 2000));
     REQUIRE(st["status"] == "pen_change");
     REQUIRE(cl.Post("/api/plot/abort", R"({"port":"sim"})", "application/json")->status == 200);
     st = wait_for_plot(cl, [](const json& j) { return j["status"] == "stopped" || j["status"] == "done"; });
