@@ -23,7 +23,10 @@ class RatioReporter : public benchmark::ConsoleReporter {
     for (const auto& r : runs)
       if (r.run_type == Run::RT_Iteration || r.aggregate_name == "median") {
         std::string name = r.run_name.function_name + (r.run_name.args.empty() ? "" : "/" + r.run_name.args);
-        times_[name] = r.GetAdjustedCPUTime();  // CPU time: single-threaded code, robust to a loaded machine
+        // CPU time: single-threaded code, robust to a loaded machine; real time where the
+        // benchmark asks for it (parallel code, whose CPU time is the sum of its threads').
+        times_[name] = r.run_name.time_type == "real_time" ? r.GetAdjustedRealTime() : r.GetAdjustedCPUTime();
+        real_[name] = r.run_name.time_type == "real_time";
       }
   }
   void Finalize() override {
@@ -31,13 +34,15 @@ class RatioReporter : public benchmark::ConsoleReporter {
     for (const auto& [fast, base] : pairs_) {
       auto f = times_.find(fast), b = times_.find(base);
       if (f != times_.end() && b != times_.end() && f->second > 0)
-        std::printf("RATIO (CPU time) %s vs %s: %.2fx faster\n", fast.c_str(), base.c_str(), b->second / f->second);
+        std::printf("RATIO (%s time) %s vs %s: %.2fx faster\n", real_[fast] ? "real" : "CPU", fast.c_str(),
+                    base.c_str(), b->second / f->second);
     }
   }
 
  private:
   std::vector<std::pair<std::string, std::string>> pairs_;
   std::map<std::string, double> times_;
+  std::map<std::string, bool> real_;
 };
 
 }  // namespace stipplot::bench

@@ -33,7 +33,7 @@ nlohmann::json method_schemas() {
   nlohmann::json methods = nlohmann::json::object();
   for (const char* name : {"stipple", "tree", "sketch", "pointillism", "hatch"}) {
     const CLI::App* sub = app.get_subcommand(name);
-    std::set<std::string> skip = {"--json", "--quiet", "--max-pixels", "--help"};
+    std::set<std::string> skip = {"--json", "--quiet", "--max-pixels", "--threads", "--help"};
     for (const CLI::Option* o : sub->get_options()) {
       const bool output = o->get_group() == "Output" && !o->check_lname("profile");
       if (!output && o->get_group() != "Layout") continue;

@@ -19,6 +19,7 @@
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
 #include "util/output_paths.hpp"
+#include "util/threads.hpp"
 
 namespace stipplot::cli {
 
@@ -38,6 +39,7 @@ struct MethodCommand::Args {
   std::string view_sigma = "1mm";      // the viewing-distance blur every measure reports at
   CLI::Option* view_sigma_option = nullptr;
   bool measure = false;                // the --measure of a method without one of its own
+  int threads = 0;                     // 0: one per core (util/threads.hpp)
 };
 
 MethodRun::MethodRun(const Image& in, const PageTransform& tf, const MethodResult& r, const Plan& p,
@@ -219,6 +221,9 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
   add_report_options(cmd, a.report);
   cmd->add_option("--max-pixels", a.max_pixels, "Refuse images with more pixels than this")
       ->capture_default_str()->group("Input");
+  cmd->add_option("--threads", a.threads,
+                  "Threads for the parallel parts (0: one per core); the drawing is the same for any count")
+      ->capture_default_str()->group("Input");
   add_placement_options(cmd, a.place);
   a.page_option = cmd->get_option("--page");
   a.view_sigma_option =
@@ -396,6 +401,7 @@ MethodResult draw_within_budget(const MethodDraft& draft, double knob, double bu
 void MethodCommand::run() const {
   const auto t0 = std::chrono::steady_clock::now();
   const Args& a = *args_;
+  set_thread_count(a.threads);
   check_();
   Placement placement = a.place.resolve();
   check_outputs();

@@ -43,6 +43,18 @@ TEST_CASE("same seed, same file, bit for bit", "[cli]") {
   CHECK(test::read_file(t.file("a.svg")) == test::read_file(t.file("b.svg")));
 }
 
+TEST_CASE("stipple with 1 and 2 threads (--threads) writes the same drawing bit for bit, a negative count is refused", "[cli][threads]") {
+  test::TempDir t;
+  std::string base = "stipple " + test::example("coffee.png") + " -q -o ";
+  REQUIRE(test::run_cli(base + t.file("one.svg") + " --threads 1").exit_code == 0);
+  REQUIRE(test::run_cli(base + t.file("two.svg") + " --threads 2").exit_code == 0);
+  CHECK(test::read_file(t.file("one.svg")) == test::read_file(t.file("two.svg")));
+  auto r = test::run_cli(base + t.file("bad.svg") + " --threads -1");
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("--threads") != std::string::npos);
+  CHECK(!std::filesystem::exists(t.file("bad.svg")));
+}
+
 TEST_CASE("bad input: one error line, non-zero exit, no output file", "[cli][bad-input]") {
   test::TempDir t;
   { std::ofstream(t.file("empty.png")); }

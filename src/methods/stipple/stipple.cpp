@@ -413,37 +413,62 @@ void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
     weight[static_cast<size_t>(v)] = radius.none(static_cast<uint8_t>(v)) ? 0 : 1 / std::pow(radius.r[v], 4);
   std::vector<float> best(n);
   std::vector<uint32_t> owner(n);
-  std::vector<double> sx(pts.size()), sy(pts.size()), sw(pts.size());
+  struct Window {
+    int x0, x1, y0, y1;
+  };
+  std::vector<Window> win(pts.size());
+  // Parallel without changing a bit (util/threads.hpp): the cells' nearest dots are found in
+  // bands of rows, each band taking the dots that reach it in index order, as one pass over
+  // all dots would; each dot's centroid sums its own cells in row order, as one pass over
+  // all cells would.
+  constexpr int kBandRows = 16;
+  const int bands = (h + kBandRows - 1) / kBandRows;
+  std::vector<std::vector<uint32_t>> reaching(static_cast<size_t>(bands));
   for (int it = 0; it < iterations; ++it) {
-    std::fill(best.begin(), best.end(), std::numeric_limits<float>::infinity());
+    for (auto& r : reaching) r.clear();
     for (uint32_t k = 0; k < pts.size(); ++k) {
       const int cx = std::clamp(static_cast<int>(pts[k].x), 0, w - 1), cy = std::clamp(static_cast<int>(pts[k].y), 0, h - 1);
       const uint8_t v = plane[static_cast<size_t>(cy) * static_cast<size_t>(w) + static_cast<size_t>(cx)];
       const double reach = 1.5 * (radius.none(v) ? radius.min() : radius.r[v]);
-      const int x0 = std::max(0, static_cast<int>(pts[k].x - reach)), x1 = std::min(w - 1, static_cast<int>(pts[k].x + reach));
-      const int y0 = std::max(0, static_cast<int>(pts[k].y - reach)), y1 = std::min(h - 1, static_cast<int>(pts[k].y + reach));
-      for (int y = y0; y <= y1; ++y) {
-        const double dy = y + 0.5 - pts[k].y;
-        const size_t row = static_cast<size_t>(y) * static_cast<size_t>(w);
-        for (int x = x0; x <= x1; ++x) {
-          const double dx = x + 0.5 - pts[k].x;
-          const float d2 = static_cast<float>(dx * dx + dy * dy);
-          if (d2 < best[row + static_cast<size_t>(x)]) best[row + static_cast<size_t>(x)] = d2, owner[row + static_cast<size_t>(x)] = k;
+      Window& wk = win[k];
+      wk.x0 = std::max(0, static_cast<int>(pts[k].x - reach)), wk.x1 = std::min(w - 1, static_cast<int>(pts[k].x + reach));
+      wk.y0 = std::max(0, static_cast<int>(pts[k].y - reach)), wk.y1 = std::min(h - 1, static_cast<int>(pts[k].y + reach));
+      for (int b = wk.y0 / kBandRows; wk.y0 <= wk.y1 && b <= wk.y1 / kBandRows; ++b)
+        reaching[static_cast<size_t>(b)].push_back(k);
+    }
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int b = 0; b < bands; ++b) {
+      const int by0 = b * kBandRows, by1 = std::min(h, by0 + kBandRows) - 1;
+      std::fill(best.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(by0) * static_cast<size_t>(w)),
+                best.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(by1 + 1) * static_cast<size_t>(w)),
+                std::numeric_limits<float>::infinity());
+      for (const uint32_t k : reaching[static_cast<size_t>(b)]) {
+        const Window& wk = win[k];
+        for (int y = std::max(wk.y0, by0); y <= std::min(wk.y1, by1); ++y) {
+          const double dy = y + 0.5 - pts[k].y;
+          const size_t row = static_cast<size_t>(y) * static_cast<size_t>(w);
+          for (int x = wk.x0; x <= wk.x1; ++x) {
+            const double dx = x + 0.5 - pts[k].x;
+            const float d2 = static_cast<float>(dx * dx + dy * dy);
+            if (d2 < best[row + static_cast<size_t>(x)]) best[row + static_cast<size_t>(x)] = d2, owner[row + static_cast<size_t>(x)] = k;
+          }
         }
       }
     }
-    std::fill(sx.begin(), sx.end(), 0.0);
-    std::fill(sy.begin(), sy.end(), 0.0);
-    std::fill(sw.begin(), sw.end(), 0.0);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const size_t i = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
-        if (!std::isfinite(best[i])) continue;
-        const double wt = weight[plane[i]];
-        sx[owner[i]] += wt * (x + 0.5), sy[owner[i]] += wt * (y + 0.5), sw[owner[i]] += wt;
-      }
-    for (size_t k = 0; k < pts.size(); ++k)
-      if (sw[k] > 0) pts[k] = {sx[k] / sw[k], sy[k] / sw[k]};
+    // A dot owns no cell outside its window: only it wrote its index there this iteration.
+#pragma omp parallel for schedule(dynamic, 256)
+    for (size_t k = 0; k < pts.size(); ++k) {
+      const Window& wk = win[k];
+      double sx = 0, sy = 0, sw = 0;
+      for (int y = wk.y0; y <= wk.y1; ++y)
+        for (int x = wk.x0; x <= wk.x1; ++x) {
+          const size_t i = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
+          if (owner[i] != k || !std::isfinite(best[i])) continue;
+          const double wt = weight[plane[i]];
+          sx += wt * (x + 0.5), sy += wt * (y + 0.5), sw += wt;
+        }
+      if (sw > 0) pts[k] = {sx / sw, sy / sw};
+    }
   }
 }
 

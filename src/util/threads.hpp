@@ -1,0 +1,14 @@
+#pragma once
+// How many threads the parallel parts of stipplot use. They are OpenMP loops (GCC's libgomp,
+// part of the compiler, so no package of its own; oneTBB's task scheduler buys nothing for
+// loops over fixed blocks). Every parallel part splits its work into blocks that do not
+// depend on the thread count and combines them in a fixed order, so a result is the same
+// bit for bit whatever the count. Without OpenMP (a compiler that lacks it) they run on one.
+namespace stipplot {
+
+// n threads from now on; 0 = one per core. Negative is refused.
+void set_thread_count(int n);
+// The threads a parallel part uses now (1 without OpenMP).
+int thread_count();
+
+}  // namespace stipplot
