@@ -78,4 +78,12 @@ std::string describe(const Mark& m, const MachineSettings& s) {
   return b;
 }
 
+std::string explain(const JobCheck& j, const MachineSettings& s) {
+  std::string out;
+  for (const auto& i : j.firmware.inconsistencies) out += "\n" + i;
+  for (const Mark& m : j.marks.lost_marks) out += "\nlost " + describe(m, s);
+  for (const Mark& m : j.marks.extra_marks) out += "\nextra " + describe(m, s);
+  return out;
+}
+
 }  // namespace firmware

@@ -34,5 +34,8 @@ JobCheck check_job(const std::string& gcode, const FirmwareRecord& r, const PenR
                    const std::vector<Steps>& offsets = {});
 
 std::string describe(const Mark& m, const MachineSettings& s);  // "segment 10.00,5.00 - 12.00,5.00 mm"
+// What a failed check should say, one line each: the firmware's inconsistencies, then the
+// lost and the extra marks (for one INFO: an INFO in a loop's body ends with that pass).
+std::string explain(const JobCheck& j, const MachineSettings& s);
 
 }  // namespace firmware

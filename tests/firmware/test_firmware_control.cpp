@@ -59,8 +59,7 @@ double longest_standstill(const SessionRecord& s) {
 void check_exact(const std::string& gcode, const FirmwareRecord& rec, const PenRule& rule) {
   const JobCheck jc = check_job(gcode, rec, rule);
   INFO(jc.marks.summary());
-  for (const auto& i : jc.firmware.inconsistencies) INFO(i);
-  for (const Mark& m : jc.marks.lost_marks) INFO("lost " << describe(m, rec.settings));
+  INFO(explain(jc, rec.settings));
   if (!jc.firmware.inconsistencies.empty() || !jc.marks.exact()) {
     for (const auto& i : jc.firmware.inconsistencies) std::printf("  inconsistent: %s\n", i.c_str());
     jobs::dump(rec);
@@ -76,8 +75,7 @@ MarkComparison check_resumed(const char* what, const std::string& gcode, const F
   const JobCheck jc = check_job(gcode, rec, rule);
   std::printf("firmware %s | %s\n", what, jc.marks.summary().c_str());
   std::fflush(stdout);
-  for (const auto& i : jc.firmware.inconsistencies) INFO(i);
-  for (const Mark& m : jc.marks.lost_marks) INFO("lost " << describe(m, rec.settings));
+  INFO(explain(jc, rec.settings));
   if (!jc.firmware.inconsistencies.empty() || jc.marks.lost || jc.marks.extra) jobs::dump(rec);
   CHECK(jc.firmware.inconsistencies.empty());
   CHECK(jc.marks.lost == 0);

@@ -182,7 +182,7 @@ TEST_CASE("grbl firmware: settings, a job sent line by line, and what the logs p
   INFO(describe(s, rec.settings));
   INFO(jc.marks.summary());
   CHECK(s.rx_overruns == 0);
-  for (const auto& i : jc.firmware.inconsistencies) INFO(i);
+  INFO(explain(jc, rec.settings));
   CHECK(jc.firmware.inconsistencies.empty());
   CHECK(jc.marks.exact());
   CHECK(jc.marks.expected_dots == 1);

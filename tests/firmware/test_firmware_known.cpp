@@ -105,7 +105,7 @@ TEST_CASE("firmware known: resume after a dropped link or a power cut loses or d
       INFO(first.run.err << second.run.err);
       FirmwareRecord rec = fw.record();
       JobCheck jc = check_job(gcode, rec, PenRule::for_profile(profile));
-      for (const auto& i : jc.firmware.inconsistencies) INFO(i);
+      INFO(explain(jc, rec.settings));
       CHECK(jc.firmware.inconsistencies.empty());
       std::string err = second.run.err.substr(0, second.run.err.find(" — "));
       say("%-9s %5zu %8zu %8zu %6zu %7zu %7zu %7zu %s\n", how == Cut::DropLink ? "drop-link" : "power-cut", cut_line,
@@ -140,7 +140,7 @@ TEST_CASE("firmware known: streaming 2,500 short segments keeps grbl's planner f
     FirmwareRecord rec = fw.record();
     JobCheck jc = check_job(g, rec, PenRule::servo());
     INFO(jc.marks.summary());
-    for (const auto& i : jc.firmware.inconsistencies) INFO(i);
+    INFO(explain(jc, rec.settings));
     CHECK(jc.marks.exact());
     // Status polls while moving: planner empty with nothing in the RX buffer either (dry),
     // or planner empty while grbl holds the next lines back itself (a pen change waits).

@@ -41,7 +41,7 @@ void check_plot_matches_job(const std::string& profile, const std::string& path,
   // Motion level: the planner blocks that ran and the pen changes draw the job's marks.
   JobCheck jc = check_job(gcode, rec, PenRule::for_profile(profile));
   INFO(jc.marks.summary());
-  for (const auto& i : jc.firmware.inconsistencies) INFO(i);
+  INFO(explain(jc, rec.settings));
   for (const auto& m : jc.marks.lost_marks) INFO("lost " << describe(m, rec.settings));
   CHECK(jc.firmware.inconsistencies.empty());
   CHECK(jc.marks.expected_segments + jc.marks.expected_dots > 0);

@@ -52,8 +52,7 @@ void power_loss_at(const std::string& name, const jobs::Job& job, const std::str
                 name.c_str(), 100 * at, cut_line, n, jc.marks.lost, dots_twice, jc.firmware.pen_down_mm, expected_mm, redrawn_mm,
                 second.summary.value("resume", nlohmann::json()).dump().c_str());
     std::fflush(stdout);
-    for (const auto& i : jc.firmware.inconsistencies) INFO(i);
-    for (const Mark& m : jc.marks.lost_marks) INFO("lost " << describe(m, rec.settings));
+    INFO(explain(jc, rec.settings));
     if (!jc.firmware.inconsistencies.empty() || jc.marks.lost) jobs::dump(rec);
     CHECK(jc.firmware.inconsistencies.empty());
     CHECK(jc.marks.lost == 0);

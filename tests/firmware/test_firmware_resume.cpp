@@ -42,9 +42,7 @@ TEST_CASE("stipplot plot on the grbl firmware: a dropped link at 25, 50 and 75 %
     for (const Mark& m : jc.marks.doubled_marks) std::printf("  doubled %s\n", describe(m, rec.settings).c_str());
     std::printf("  first: %s\n  resume: %s\n", first.run.err.c_str(), second.summary.dump().c_str());
     std::fflush(stdout);
-    for (const auto& i : jc.firmware.inconsistencies) INFO(i);
-    for (const Mark& m : jc.marks.lost_marks) INFO("lost " << describe(m, rec.settings));
-    for (const Mark& m : jc.marks.extra_marks) INFO("extra " << describe(m, rec.settings));
+    INFO(explain(jc, rec.settings));
     CHECK(jc.marks.expected_segments + jc.marks.expected_dots > 0);
     CHECK(jc.marks.lost == 0);
     double doubled_mm = 0;
