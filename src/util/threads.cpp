@@ -1,7 +1,5 @@
 #include "util/threads.hpp"
 
-#include <string>
-
 #include "util/error.hpp"
 
 #ifdef _OPENMP
@@ -10,8 +8,11 @@
 
 namespace stipplot {
 
+// More threads than any machine has cores would only fail to start (libgomp crashed at 100000).
+constexpr int kMostThreads = 1024;
+
 void set_thread_count(int n) {
-  if (n < 0) throw UserError("--threads must be 0 (every core) or more, not " + std::to_string(n));
+  require_range("--threads (0: one per core)", n, 0, kMostThreads);
 #ifdef _OPENMP
   omp_set_num_threads(n == 0 ? omp_get_num_procs() : n);
 #endif

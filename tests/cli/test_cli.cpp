@@ -43,7 +43,7 @@ TEST_CASE("same seed, same file, bit for bit", "[cli]") {
   CHECK(test::read_file(t.file("a.svg")) == test::read_file(t.file("b.svg")));
 }
 
-TEST_CASE("stipple with 1 and 2 threads (--threads) writes the same drawing bit for bit, a negative count is refused", "[cli][threads]") {
+TEST_CASE("stipple with 1 and 2 threads (--threads) writes the same drawing bit for bit, a negative or huge count is refused", "[cli][threads]") {
   test::TempDir t;
   std::string base = "stipple " + test::example("coffee.png") + " -q -o ";
   REQUIRE(test::run_cli(base + t.file("one.svg") + " --threads 1").exit_code == 0);
@@ -53,6 +53,9 @@ TEST_CASE("stipple with 1 and 2 threads (--threads) writes the same drawing bit 
   CHECK(r.exit_code == 1);
   CHECK(r.err.find("--threads") != std::string::npos);
   CHECK(!std::filesystem::exists(t.file("bad.svg")));
+  r = test::run_cli(base + t.file("bad.svg") + " --threads 100000");  // more than any machine: refused, not a crash
+  CHECK(r.exit_code == 1);
+  CHECK(r.err.find("--threads") != std::string::npos);
 }
 
 TEST_CASE("bad input: one error line, non-zero exit, no output file", "[cli][bad-input]") {
