@@ -28,37 +28,30 @@ phase "set-up for the tests"
 # under a core and run at normal priority, as a plotter's host does; after them, in the
 # same lane, the EBB firmware tests (tests/ebb: the EiBotBoard firmware v3.0.2 compiled for
 # the PC, ebb_sim, streaming AxiDraw jobs). The other tests run beside them at nice 10 on
-# every core, and ebb_sim (a second or two) builds at nice 19.
+# every core, and ebb_sim (a second or two) and the fuzz targets build at nice 19.
 fw_log=build/ci-firmware.log
 (cd build && ctest --output-on-failure -L firmware && ctest --output-on-failure -L ebb) >"$fw_log" 2>&1 &
 firmware=$!
-nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" >build/ci-ebb-build.log 2>&1 &
-ebb_build=$!
+(nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" && nice -n 19 bash scripts/fuzz.sh build) \
+  >build/ci-build-beside.log 2>&1 &
+built_beside=$!
 status=0
 (cd build && nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults') || status=1
 phase "tests"
 wait "$firmware" || status=1
 cat "$fw_log"
 phase "firmware and EBB firmware tests (beside the tests)"
-if ! wait "$ebb_build"; then
-  tail -30 build/ci-ebb-build.log >&2
-  echo "test.sh: building ebb_sim failed" >&2
+if ! wait "$built_beside"; then
+  tail -30 build/ci-build-beside.log >&2
+  echo "test.sh: building ebb_sim or the fuzz targets failed" >&2
   status=1
 fi
 [ "$status" -eq 0 ] || exit 1
-# Faults injected into the built-in simulators (label faults): the simulators' clocks are
-# the wall clock sped up. They spend nearly all their time waiting on those clocks, so
-# twice as many run as there are cores, and the fuzz targets build beside them at nice 19.
-nice -n 19 bash scripts/fuzz.sh build >build/ci-fuzz-build.log 2>&1 &
-fuzz_build=$!
-(cd build && ctest --output-on-failure -j "$((2 * $(nproc)))" -L faults) || status=1
+# Faults injected into the built-in simulators (label faults), on a machine with nothing
+# else running: the simulators' clocks are the wall clock sped up (with the fuzz build
+# beside them at nice 19, or four at a time, a resume redrew 13 dots where one is allowed).
+(cd build && ctest --output-on-failure -j "$(nproc)" -L faults) || status=1
 phase "simulator fault tests"
-if ! wait "$fuzz_build"; then
-  tail -30 build/ci-fuzz-build.log >&2
-  echo "test.sh: building the fuzz targets failed" >&2
-  status=1
-fi
-phase "fuzz targets' build (beside the fault tests)"
 [ "$status" -eq 0 ] || exit 1
 # [realtime] times a simulated plot against the wall clock, one test at a time; it sleeps
 # most of that time, so the fuzz targets run meanwhile at nice 19 (a fuzzer's run is so
