@@ -19,6 +19,7 @@
 #include "drivers/device/profile.hpp"
 #include "svg/svg_reader.hpp"
 #include "util/rng.hpp"
+#include "ratio_reporter.hpp"
 
 using namespace stipplot;
 
@@ -155,6 +156,45 @@ void BM_SvgRead(benchmark::State& st) {
 }
 BENCHMARK(BM_SvgRead)->Unit(benchmark::kMillisecond);
 
+// 200,000 dots as stipplot writes them, in one Inkscape layer: the streaming reader
+// (arg 1, the default) against reading through tinyxml2's tree of the whole file (arg 0,
+// the baseline). Same drawing either way (tests/svg); the memory figure is the README's
+// 1M-dot export under /usr/bin/time -v.
+const std::string& dots_svg() {
+  static std::string svg = [] {
+    Rng rng(11);
+    std::string s =
+        R"(<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape" )"
+        R"(width="200mm" height="200mm" viewBox="0 0 200 200"><g id="layer1" inkscape:groupmode="layer" )"
+        R"(inkscape:label="1 black" stroke="#000000" stroke-width="0.3" fill="none">)";
+    char buf[160];
+    for (int i = 0; i < 200'000; ++i) {
+      std::snprintf(buf, sizeof buf, "\n<circle cx=\"%.3f\" cy=\"%.3f\" r=\"0.15\" fill=\"#000000\" stroke=\"none\"/>",
+                    rng.uniform() * 200, rng.uniform() * 200);
+      s += buf;
+    }
+    s += "</g></svg>";
+    return s;
+  }();
+  return svg;
+}
+
+void BM_SvgReadDots(benchmark::State& st) {
+  const std::string& svg = dots_svg();
+  SvgReadOptions ro;
+  ro.stream = st.range(0) == 1;
+  size_t dots = 0;
+  for (auto _ : st) {
+    Drawing d = parse_svg(svg, "dots.svg", ro);
+    dots = 0;
+    for (const auto& l : d.layers) dots += l.dots.size();
+    benchmark::DoNotOptimize(dots);
+  }
+  st.counters["dots"] = static_cast<double>(dots);
+  st.SetBytesProcessed(static_cast<int64_t>(st.iterations() * svg.size()));
+}
+BENCHMARK(BM_SvgReadDots)->ArgName("stream")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 
-BENCHMARK_MAIN();
+STIPPLOT_BENCH_MAIN({{"BM_SvgReadDots/stream:1", "BM_SvgReadDots/stream:0"}});

@@ -1,17 +1,23 @@
 #include "svg/svg_reader.hpp"
 
+#include <expat.h>
 #include <tinyxml2.h>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
-#include <fstream>
+#include <exception>
+#include <memory>
+#include <string_view>
+#include <unordered_set>
+#include <cstdio>
 #include <map>
 #include <numbers>
 #include <optional>
-#include <sstream>
+#include <vector>
 
 #include "geometry/affine.hpp"
 #include "svg/text_layout.hpp"
@@ -43,23 +49,57 @@ struct Style {
 };
 
 class Reader {
+  friend class StreamReader;
+
  public:
   Reader(const std::string& name, const SvgReadOptions& opt) : name_(name), opt_(opt) {}
 
   size_t missing_glyphs() const { return missing_glyphs_; }
 
+  // What a container hands its children: where they land on the page, their inherited
+  // style and the layer they are drawn in (pointing at a label the caller keeps alive).
+  struct Context {
+    Affine ctm;
+    Style style;
+    const std::string* layer = nullptr;
+    std::string label;  // a layer's name when this container started the layer
+  };
+
   Drawing run(const tinyxml2::XMLDocument& doc) {
     const tinyxml2::XMLElement* root = doc.RootElement();
+    Context ctx;
+    if (!begin(root, ctx)) return drawing_;
+    walk_children(root, ctx.ctm, ctx.style, nullptr);
+    return finish();
+  }
+
+  // The root <svg>: the page's transform and style; false when nothing is drawn at all.
+  bool begin(const tinyxml2::XMLElement* root, Context& ctx) {
     if (!root || std::strcmp(local(root->Name()), "svg") != 0)
       throw UserError(name_ + ": not an SVG file (the root element is not <svg>)");
-    Affine ctm = compose(root, Affine{}, root_transform(root));
-    Style style;
-    style.stroke_width_mm = -1;
-    apply_style(root, style, ctm);
-    if (display_none(root)) return drawing_;
-    walk_children(root, ctm, style, nullptr);
+    ctx.ctm = compose(root, Affine{}, root_transform(root));
+    ctx.style.stroke_width_mm = -1;
+    apply_style(root, ctx.style, ctx.ctm);
+    return !display_none(root);
+  }
+
+  Drawing finish() {
     finish_layers();
-    return drawing_;
+    return std::move(drawing_);
+  }
+
+  static bool is_container(const char* tag) {
+    return std::strcmp(tag, "g") == 0 || std::strcmp(tag, "svg") == 0 || std::strcmp(tag, "a") == 0;
+  }
+
+  // A container element (is_container) met in `parent`: the context of its children into
+  // `child`; false when they are not drawn.
+  bool enter(const tinyxml2::XMLElement* e, const Context& parent, Context& child) {
+    child.ctm = parent.ctm;
+    child.style = parent.style;
+    child.layer = parent.layer;
+    const char* tag = local(e->Name());
+    return open(e, tag, child.ctm, child.style) && container(e, tag, child.ctm, child.layer, child.label);
   }
 
  private:
@@ -71,7 +111,14 @@ class Reader {
   // ---------- errors and attributes ----------
   [[noreturn]] void fail(const tinyxml2::XMLElement* e, const std::string& what) const {
     if (!e) throw UserError(name_ + ": " + what);
-    throw UserError(name_ + " line " + std::to_string(e->GetLineNum()) + ": <" + e->Name() + "> " + what);
+    throw UserError(name_ + " line " + std::to_string(line_of(e)) + ": <" + e->Name() + "> " + what);
+  }
+
+  // Elements the stream built carry their line in the user data (tinyxml2 counts lines only
+  // for what it parsed itself).
+  static int line_of(const tinyxml2::XMLElement* e) {
+    if (const void* u = e->GetUserData()) return static_cast<int>(reinterpret_cast<intptr_t>(u));
+    return e->GetLineNum();
   }
 
   static const char* local(const char* name) {
@@ -434,14 +481,15 @@ class Reader {
       walk(e, ctm, style, layer);
   }
 
-  void walk(const tinyxml2::XMLElement* e, Affine ctm, Style style, const std::string* layer) {
-    const char* tag = local(e->Name());
+  // The element's own transform and style on top of its parent's; false when nothing of
+  // it is drawn (an element that is never drawn, display:none).
+  bool open(const tinyxml2::XMLElement* e, const char* tag, Affine& ctm, Style& style) {
     static const char* kSkip[] = {"defs", "title", "desc", "metadata", "symbol", "clipPath", "mask", "pattern",
                                   "marker", "style", "script", "namedview", "linearGradient", "radialGradient",
                                   "filter", "image", "foreignObject", "switch", "flowRegion"};
     for (const char* s : kSkip)
-      if (std::strcmp(tag, s) == 0) return;
-    if (display_none(e)) return;
+      if (std::strcmp(tag, s) == 0) return false;
+    if (display_none(e)) return false;
     // The document's own elements are already in memory; only <use> multiplies them.
     if (use_depth_ > 0 && ++use_copies_ > opt_.max_use_copies)
       fail(e, "is one <use> copy too many: more than " + std::to_string(opt_.max_use_copies) +
@@ -449,21 +497,33 @@ class Reader {
     element_ = e;
     if (const char* t = e->Attribute("transform")) ctm = compose(e, ctm, parse_transform(e, t));
     apply_style(e, style, ctm);
+    return true;
+  }
 
-    if (std::strcmp(tag, "g") == 0 || std::strcmp(tag, "svg") == 0 || std::strcmp(tag, "a") == 0) {
-      std::string label_storage;
-      const char* mode = e->Attribute("inkscape:groupmode");
-      if (!layer && mode && std::strcmp(mode, "layer") == 0) {
-        const char* label = e->Attribute("inkscape:label");
-        if (!label) label = e->Attribute("id");
-        label_storage = label ? trim(label) : "layer";
-        if (!label_storage.empty() && label_storage[0] == '%') return;  // not for plotting
-        layer = &label_storage;
-      }
-      if (std::strcmp(tag, "svg") == 0 && e != e->GetDocument()->RootElement()) {
-        ctm = compose(e, ctm, Affine{1, 0, 0, 1, length_attr(e, "x", 0), length_attr(e, "y", 0)});
-      }
-      walk_children(e, ctm, style, layer);
+  // A g, svg or a after open(): the layer its children are drawn in (an Inkscape layer
+  // starts one, named into `label`) and a nested svg's offset; false when the layer is
+  // not for plotting.
+  bool container(const tinyxml2::XMLElement* e, const char* tag, Affine& ctm, const std::string*& layer,
+                 std::string& label) {
+    const char* mode = e->Attribute("inkscape:groupmode");
+    if (!layer && mode && std::strcmp(mode, "layer") == 0) {
+      const char* name = e->Attribute("inkscape:label");
+      if (!name) name = e->Attribute("id");
+      label = name ? trim(name) : "layer";
+      if (!label.empty() && label[0] == '%') return false;  // not for plotting
+      layer = &label;
+    }
+    if (std::strcmp(tag, "svg") == 0 && e != e->GetDocument()->RootElement())
+      ctm = compose(e, ctm, Affine{1, 0, 0, 1, length_attr(e, "x", 0), length_attr(e, "y", 0)});
+    return true;
+  }
+
+  void walk(const tinyxml2::XMLElement* e, Affine ctm, Style style, const std::string* layer) {
+    const char* tag = local(e->Name());
+    if (!open(e, tag, ctm, style)) return;
+    if (is_container(tag)) {
+      std::string label;
+      if (container(e, tag, ctm, layer, label)) walk_children(e, ctm, style, layer);
       return;
     }
     if (std::strcmp(tag, "use") == 0) {
@@ -1201,11 +1261,276 @@ class Reader {
   std::vector<Polyline> shape_;
 };
 
-}  // namespace
+// ---------- streaming: the document never whole in memory ----------
+// Two passes of expat over the text. The first checks the XML and collects the ids that
+// an href="#id" names. The second builds each element as tinyxml2 nodes for the Reader,
+// walks an element and its subtree as soon as it ends, and frees it unless an href names
+// something in it. Groups (g, svg, a) are never held whole: their children are walked one
+// by one in the group's context, in document order as the tree walk does, so both ways
+// draw the same (tests compare them on every SVG they read). Memory is then the drawing,
+// the open groups and the referenced elements. A reference to an element not complete
+// yet (a forward one, or one inside its target) needs the tree: reading starts again
+// through it (NeedsTree); so does XML that expat refuses, for tinyxml2's own message (or
+// its leniency).
 
-Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt, SvgReadReport* report) {
-  require_positive("SVG flattening tolerance", opt.tolerance_mm);
-  require_positive("default pen width", opt.default_pen_width_mm);
+struct NeedsTree {};
+
+// The SVG's bytes, from a string in memory or read from a file in chunks.
+struct Source {
+  const std::string* text = nullptr;
+  std::string path;
+
+  // f(data, size, last) over the whole source, in chunks expat takes (an int's size).
+  template <class F>
+  void each_chunk(F&& f) const {
+    constexpr size_t kChunk = 1 << 20;
+    if (text) {
+      size_t at = 0;
+      do {
+        const size_t n = std::min(kChunk, text->size() - at);
+        if (!f(text->data() + at, n, at + n == text->size())) return;
+        at += n;
+      } while (at < text->size());
+      return;
+    }
+    std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
+    if (!file) throw UserError("cannot read " + path);
+    std::vector<char> buf(kChunk);
+    for (;;) {
+      const size_t n = std::fread(buf.data(), 1, buf.size(), file.get());
+      if (std::ferror(file.get())) throw UserError("cannot read " + path);
+      const bool last = n < buf.size() && std::feof(file.get());
+      if (!f(buf.data(), n, last) || last) return;
+    }
+  }
+
+  std::string whole() const {
+    if (text) return *text;
+    std::string out;
+    each_chunk([&](const char* d, size_t n, bool) {
+      out.append(d, n);
+      return true;
+    });
+    return out;
+  }
+};
+
+// One expat parser; an exception from a handler is kept and rethrown once expat has
+// returned (it must not unwind through expat's C frames).
+class Expat {
+ public:
+  Expat() : p_(XML_ParserCreate(nullptr)) {
+    if (!p_) throw std::bad_alloc();
+  }
+  ~Expat() { XML_ParserFree(p_); }
+  Expat(const Expat&) = delete;
+  Expat& operator=(const Expat&) = delete;
+  XML_Parser get() const { return p_; }
+
+  template <class F>
+  void guard(F&& f) {
+    if (error_) return;
+    try {
+      f();
+    } catch (...) {
+      error_ = std::current_exception();
+      XML_StopParser(p_, XML_FALSE);
+    }
+  }
+  // Feeds the whole source; false when the XML is malformed.
+  bool parse(const Source& src) {
+    bool ok = true;
+    src.each_chunk([&](const char* d, size_t n, bool last) {
+      ok = XML_Parse(p_, d, static_cast<int>(n), last) == XML_STATUS_OK;
+      return ok;
+    });
+    if (error_) std::rethrow_exception(error_);
+    return ok;
+  }
+
+ private:
+  XML_Parser p_;
+  std::exception_ptr error_;
+};
+
+const char* href_of(const XML_Char** attrs, int which) {
+  int seen = 0;
+  for (int i = 0; attrs[i]; i += 2)
+    if ((std::strcmp(attrs[i], "href") == 0 || std::strcmp(attrs[i], "xlink:href") == 0) && attrs[i + 1][0] == '#' &&
+        seen++ == which)
+      return attrs[i + 1] + 1;
+  return nullptr;
+}
+
+// Pass 1: the ids some href="#id" names; nullopt when the XML is malformed. A text with
+// no "href" at all names none: a scan for it (memory speed) replaces the pass.
+std::optional<std::unordered_set<std::string>> referenced_ids(const Source& src) {
+  bool any = false;
+  std::string carry;  // the end of the previous chunk, for a match across chunks
+  src.each_chunk([&](const char* d, size_t n, bool) {
+    std::string_view view(d, n);
+    any = (carry + std::string(view.substr(0, std::min<size_t>(n, 3)))).find("href") != std::string::npos ||
+          view.find("href") != std::string_view::npos;
+    carry = std::string(view.substr(n - std::min<size_t>(n, 3)));
+    return !any;
+  });
+  if (!any) return std::unordered_set<std::string>{};
+  Expat x;
+  std::unordered_set<std::string> ids;
+  XML_SetUserData(x.get(), &ids);
+  XML_SetStartElementHandler(x.get(), [](void* u, const XML_Char*, const XML_Char** attrs) {
+    auto& ids = *static_cast<std::unordered_set<std::string>*>(u);
+    for (int k = 0; const char* id = href_of(attrs, k); ++k) ids.insert(id);
+  });
+  if (!x.parse(src)) return std::nullopt;
+  return ids;
+}
+
+// Pass 2 (see above).
+class StreamReader {
+ public:
+  StreamReader(Reader& reader, std::unordered_set<std::string> targets)
+      : r_(reader), targets_(std::move(targets)) {}
+
+  Drawing run(const Source& src) {
+    Expat x;
+    expat_ = x.get();
+    XML_SetUserData(x.get(), this);
+    XML_SetElementHandler(
+        x.get(),
+        [](void* u, const XML_Char* name, const XML_Char** attrs) {
+          auto* s = static_cast<StreamReader*>(u);
+          s->x_->guard([&] { s->start(name, attrs); });
+        },
+        [](void* u, const XML_Char*) {
+          auto* s = static_cast<StreamReader*>(u);
+          s->x_->guard([&] { s->end(); });
+        });
+    XML_SetCharacterDataHandler(x.get(), [](void* u, const XML_Char* d, int n) {
+      auto* s = static_cast<StreamReader*>(u);
+      if (s->held_top_ != kNone) s->x_->guard([&] { s->text_.append(d, static_cast<size_t>(n)); });
+    });
+    // Markup between characters splits them into text nodes, as tinyxml2 does.
+    XML_SetCommentHandler(x.get(), [](void* u, const XML_Char*) {
+      auto* s = static_cast<StreamReader*>(u);
+      s->x_->guard([&] { s->flush_text(); });
+    });
+    XML_SetProcessingInstructionHandler(x.get(), [](void* u, const XML_Char*, const XML_Char*) {
+      auto* s = static_cast<StreamReader*>(u);
+      s->x_->guard([&] { s->flush_text(); });
+    });
+    x_ = &x;
+    if (!x.parse(src)) throw NeedsTree{};  // malformed XML: tinyxml2 reads it or says why
+    if (!root_drawn_) return std::move(r_.drawing_);
+    return r_.finish();
+  }
+
+ private:
+  static constexpr size_t kNone = static_cast<size_t>(-1);
+
+  struct Frame {
+    explicit Frame(tinyxml2::XMLElement* e, bool is_group = false) : el(e), group(is_group) {}
+    tinyxml2::XMLElement* el;
+    bool group = false;  // a g, svg or a whose children are walked one by one as they end
+    bool drawn = false;  // (group) its children are drawn
+    std::unique_ptr<Reader::Context> ctx;  // (group, drawn) what its children inherit
+    bool keep = false;   // (top of a held subtree) an href names something in it
+  };
+
+  void start(const XML_Char* name, const XML_Char** attrs) {
+    flush_text();
+    tinyxml2::XMLElement* el = doc_.NewElement(name);
+    el->SetUserData(reinterpret_cast<void*>(static_cast<intptr_t>(XML_GetCurrentLineNumber(expat_))));
+    const char* id = nullptr;
+    for (int i = 0; attrs[i]; i += 2) {
+      el->SetAttribute(attrs[i], attrs[i + 1]);
+      if (std::strcmp(attrs[i], "id") == 0) id = attrs[i + 1];
+    }
+    // What an href names must be complete by now, or the tree walk is needed.
+    for (int k = 0; const char* ref = href_of(attrs, k); ++k) {
+      auto it = r_.ids_.find(ref);
+      if (it == r_.ids_.end() || open_targets_.count(it->second)) throw NeedsTree{};
+    }
+    const bool target = id && targets_.count(id);
+    if (target) {
+      r_.ids_.emplace(id, el);
+      open_targets_.insert(el);
+    }
+    if (stack_.empty()) {  // the root
+      doc_.InsertEndChild(el);
+      Frame f(el, true);
+      f.ctx = std::make_unique<Reader::Context>();
+      f.drawn = root_drawn_ = r_.begin(el, *f.ctx);
+      stack_.push_back(std::move(f));
+      return;
+    }
+    Frame& parent = stack_.back();
+    parent.el->InsertEndChild(el);
+    if (held_top_ != kNone) {  // inside a held subtree
+      if (target) stack_[held_top_].keep = true;
+      stack_.push_back(Frame(el));
+      return;
+    }
+    if (Reader::is_container(Reader::local(name)) && !target) {
+      Frame f(el, true);
+      if (parent.drawn) {
+        f.ctx = std::make_unique<Reader::Context>();
+        f.drawn = r_.enter(el, *parent.ctx, *f.ctx);
+      }
+      stack_.push_back(std::move(f));
+      return;
+    }
+    held_top_ = stack_.size();
+    Frame f(el);
+    f.keep = target;
+    stack_.push_back(std::move(f));
+  }
+
+  void end() {
+    flush_text();
+    Frame f = std::move(stack_.back());
+    stack_.pop_back();
+    if (!open_targets_.empty()) open_targets_.erase(f.el);
+    if (stack_.empty()) return;  // the root
+    Frame& parent = stack_.back();
+    if (f.group) {
+      if (!f.el->FirstChild()) forget(parent, f.el);
+      return;
+    }
+    if (held_top_ != stack_.size()) return;  // inside a held subtree
+    held_top_ = kNone;
+    if (parent.drawn) r_.walk(f.el, parent.ctx->ctm, parent.ctx->style, parent.ctx->layer);
+    if (!f.keep) forget(parent, f.el);
+  }
+
+  void forget(Frame& parent, tinyxml2::XMLElement* el) {
+    parent.el->DeleteChild(el);
+    r_.element_ = nullptr;  // it may have been this one
+  }
+
+  // Characters become a text node of the element they are in, unless they are only white
+  // space between markup (tinyxml2 drops those too).
+  void flush_text() {
+    if (text_.empty()) return;
+    if (text_.find_first_not_of(" \t\n\v\f\r") != std::string::npos)
+      stack_.back().el->InsertEndChild(doc_.NewText(text_.c_str()));
+    text_.clear();
+  }
+
+  Reader& r_;
+  std::unordered_set<std::string> targets_;
+  tinyxml2::XMLDocument doc_;
+  std::vector<Frame> stack_;
+  std::unordered_set<const tinyxml2::XMLElement*> open_targets_;
+  size_t held_top_ = kNone;  // index in stack_ of the held subtree's top
+  std::string text_;
+  bool root_drawn_ = false;
+  Expat* x_ = nullptr;
+  XML_Parser expat_ = nullptr;
+};
+
+Drawing read_tree(const std::string& text, const std::string& name, const SvgReadOptions& opt,
+                  SvgReadReport* report) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS) {
     std::string msg = doc.ErrorStr() ? doc.ErrorStr() : "XML error";
@@ -1217,13 +1542,40 @@ Drawing parse_svg(const std::string& text, const std::string& name, const SvgRea
   return d;
 }
 
+Drawing read_source(const Source& src, const std::string& name, const SvgReadOptions& opt,
+                    SvgReadReport* report) {
+  require_positive("SVG flattening tolerance", opt.tolerance_mm);
+  require_positive("default pen width", opt.default_pen_width_mm);
+  if (opt.stream) {
+    if (auto targets = referenced_ids(src)) {
+      try {
+        Reader reader(name, opt);
+        StreamReader stream(reader, std::move(*targets));
+        Drawing d = stream.run(src);
+        if (report) {
+          report->missing_glyphs = reader.missing_glyphs();
+          report->streamed = true;
+        }
+        return d;
+      } catch (const NeedsTree&) {
+      }
+    }
+  }
+  return read_tree(src.whole(), name, opt, report);
+}
+
+}  // namespace
+
+Drawing parse_svg(const std::string& text, const std::string& name, const SvgReadOptions& opt, SvgReadReport* report) {
+  Source src;
+  src.text = &text;
+  return read_source(src, name, opt, report);
+}
+
 Drawing read_svg(const std::string& path, const SvgReadOptions& opt, SvgReadReport* report) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw UserError("cannot read " + path);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (!in.good() && !in.eof()) throw UserError("cannot read " + path);
-  return parse_svg(ss.str(), path, opt, report);
+  Source src;
+  src.path = path;
+  return read_source(src, path, opt, report);
 }
 
 }  // namespace stipplot

@@ -33,13 +33,18 @@ struct SvgReadOptions {
   // included; 16 bytes each).
   size_t max_use_copies = 1'000'000;
   size_t max_points = 10'000'000;
+  // Read in two streaming passes, holding only open groups and referenced elements
+  // (false: through tinyxml2's tree of the whole file; the tests compare the two).
+  bool stream = true;
 };
 
 // O(elements + output points); the flattening adds points in proportion to
-// sqrt(curve size / tolerance) per curve.
+// sqrt(curve size / tolerance) per curve. Memory: the drawing plus the elements an href
+// names and the groups open at a time, not the document's tree (see `stream`).
 // What reading left out that a user should hear of.
 struct SvgReadReport {
   size_t missing_glyphs = 0;  // text characters the Hershey fonts have no glyph for
+  bool streamed = false;      // read in streaming passes, not through the whole tree
 };
 
 Drawing read_svg(const std::string& path, const SvgReadOptions& opt = {}, SvgReadReport* report = nullptr);

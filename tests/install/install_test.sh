@@ -64,7 +64,7 @@ cpack --config "$build/CPackConfig.cmake" -G DEB -B "$work/pkg" >"$work/cpack.lo
 deb=$(ls "$work"/pkg/*.deb)
 depends=$(dpkg-deb -f "$deb" Depends)
 echo "install: $(basename "$deb"), Depends: $depends"
-for lib in libc6 libstdc++6 libopencv-core406 libopencv-imgproc406 libcairo2 libserialport0 libusb-1.0-0 libtinyxml2-9 libhersheyfont0 hershey-fonts-data zlib1g; do
+for lib in libc6 libstdc++6 libopencv-core406 libopencv-imgproc406 libcairo2 libserialport0 libusb-1.0-0 libtinyxml2-9 libexpat1 libhersheyfont0 hershey-fonts-data zlib1g; do
   grep -q "\b$lib\b" <<<"$depends" || fail "the package's Depends lack $lib: $depends"
 done
 description=$(dpkg-deb -f "$deb" Description)
