@@ -1,5 +1,7 @@
 // stipplot: photographs to pen-plotter drawings, and the plotter driver.
 #include <CLI/CLI.hpp>
+#include <malloc.h>
+
 #include <cstdio>
 #include <new>
 #include <string>
@@ -19,6 +21,10 @@ std::string one_line(std::string s) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // One malloc arena: a helper thread (the job timer beside a writer) would otherwise grow
+  // an arena of its own instead of reusing what the main thread freed (a 1M-dot export
+  // peaked at 339 MB instead of 286 MB). Our threads allocate little while they run.
+  mallopt(M_ARENA_MAX, 1);
   CLI::App app{"stipplot: turn photographs into drawings for pen plotters, and drive the plotters"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "stipplot " STIPPLOT_VERSION);
