@@ -4,6 +4,7 @@
 //    4 px/mm, sigma 1 mm (view_score_of_drawing).
 //  - BM_ViewCheap: the plan rendered pen-true at 4 px/mm; BM_RenderCheap: that render alone.
 //  - BM_ViewCli: what --measure and `stipplot eval` do, the plan at 10 px/mm.
+//  - BM_ViewCompare/threads:N: the comparison alone of the 10 px/mm render, on N threads.
 //  - BM_QuickEstimate: what the search already pays for each run it tries (the quick plan
 //    estimate of the same drawing): the search's measure should cost no more than it.
 #include <benchmark/benchmark.h>
@@ -17,6 +18,7 @@
 #include "plan/planner.hpp"
 #include "preview/preview.hpp"
 #include "ratio_reporter.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 
@@ -76,6 +78,22 @@ void BM_RenderCheap(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(render_plan(fixture().plan, po).rgb.data());
 }
 
+// The comparison alone (blur, SSIM, tone) of the 10 px/mm render, made once, on 1 and 2
+// threads (wall-clock): the same figures bit for bit (tests "[threads]").
+void BM_ViewCompare(benchmark::State& state) {
+  const Fixture& f = fixture();
+  static const Image page = [&] {
+    PreviewOptions po;
+    po.dpi = 10 * 25.4;
+    return render_plan(f.plan, po);
+  }();
+  ViewOptions o;
+  o.sigma_mm = 1;
+  set_thread_count(static_cast<int>(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(view_score(f.photo, f.tf, page, o).ssim);
+  set_thread_count(0);
+}
+
 void BM_QuickEstimate(benchmark::State& state) {
   const Fixture& f = fixture();
   const DeviceProfile prof = find_profile("grbl-servo");
@@ -87,8 +105,9 @@ void BM_QuickEstimate(benchmark::State& state) {
 BENCHMARK(BM_ViewDrawing)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ViewCheap)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ViewCli)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ViewCompare)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RenderCheap)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_QuickEstimate)->Unit(benchmark::kMillisecond);
 
-STIPPLOT_BENCH_MAIN({{"BM_ViewDrawing", "BM_ViewCli"}, {"BM_ViewDrawing", "BM_QuickEstimate"},
+STIPPLOT_BENCH_MAIN({{"BM_ViewCompare/threads:2", "BM_ViewCompare/threads:1"}, {"BM_ViewDrawing", "BM_ViewCli"}, {"BM_ViewDrawing", "BM_QuickEstimate"},
                      {"BM_ViewCheap", "BM_ViewCli"}, {"BM_ViewCheap", "BM_RenderCheap"}})

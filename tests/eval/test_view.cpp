@@ -1,12 +1,15 @@
 // The viewing-distance measure: blurred in millimetres on paper, whatever the marks.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <nlohmann/json.hpp>
 
+#include "eval/bounded_blur.hpp"
 #include "eval/view.hpp"
 #include "plan/planner.hpp"
 #include "test_util.hpp"
 #include "util/error.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 
@@ -170,4 +173,42 @@ TEST_CASE("a method's --measure and eval of its SVG give the same viewing-distan
   r = test::run_cli("eval " + horse + " " + t.file("h.svg") + " --view-sigma 0.5mm --json");
   REQUIRE(r.exit_code == 0);
   CHECK(nlohmann::json::parse(r.out)["ssim_view"].get<double>() < e["ssim_view"].get<double>());
+}
+
+TEST_CASE("the measure is the same bit for bit on one thread and on several", "[eval][view][threads]") {
+  const Image photo = load_image(test::example("coffee.png"));
+  const PageTransform tf(photo.width, photo.height, PageSpec{297, 210}, 10, false);
+  const Plan plan = halftone(photo, tf, 0.8);
+  for (bool colour : {false, true}) {
+    ViewOptions o;
+    o.colour = colour;
+    ViewScore by[3];
+    for (int threads : {1, 2, 3}) {
+      set_thread_count(threads);
+      by[threads - 1] = view_score_of_plan(photo, tf, plan, o, 10);
+    }
+    set_thread_count(0);
+    CAPTURE(colour, by[0].ssim, by[1].ssim);
+    CHECK(by[0].ssim > 0.5);
+    for (const ViewScore& v : {by[1], by[2]}) {
+      CHECK(std::memcmp(&v.ssim, &by[0].ssim, sizeof(double)) == 0);
+      CHECK(std::memcmp(&v.tone_r, &by[0].tone_r, sizeof(double)) == 0);
+      CHECK(std::memcmp(&v.tone_err, &by[0].tone_err, sizeof(double)) == 0);
+      CHECK(std::memcmp(&v.delta_e, &by[0].delta_e, sizeof(double)) == 0);
+    }
+  }
+}
+
+TEST_CASE("the Gaussian blur in bands of rows is the blur of the whole image, bit for bit", "[eval][view][threads]") {
+  cv::Mat in(700, 333, CV_64F);
+  cv::randu(in, 0.0, 1.0);
+  cv::Mat whole, banded;
+  set_thread_count(1);
+  gaussian_blur_bounded(in, whole, 7.5, cv::BORDER_CONSTANT);
+  set_thread_count(3);
+  gaussian_blur_bounded(in, banded, 7.5, cv::BORDER_CONSTANT);
+  set_thread_count(0);
+  REQUIRE(banded.size() == whole.size());
+  CHECK(std::memcmp(banded.data, whole.data, whole.total() * sizeof(double)) == 0);
+  CHECK(cv::norm(whole, cv::NORM_INF) > 0.3);  // a blur, not an empty image
 }
