@@ -82,12 +82,12 @@ void preview(benchmark::State& state, bool draft) {
   for (auto _ : state) {
     // One parameter change: -b steps through 14..21 px.
     const std::string body = std::string(R"({"method":"stipple","options":{"-b":")") + std::to_string(14 + step++ % 8) +
-                             R"("},"draft":)" + (draft ? "true" : "false") + "}";
+                             R"(px"},"draft":)" + (draft ? "true" : "false") + "}";
     const auto t0 = std::chrono::steady_clock::now();
     auto r = cl.Post("/api/preview", body, "application/json");
     state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     if (!r || r->status != 200) {
-      state.SkipWithError("preview failed");
+      state.SkipWithError(("preview failed: " + (r ? r->body : std::string("no answer"))).c_str());
       break;
     }
     auto j = nlohmann::json::parse(r->body);

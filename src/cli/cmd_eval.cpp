@@ -25,6 +25,7 @@ struct EvalArgs {
   std::string profile = "grbl-servo";
   bool json = false;
   bool cropped = false;
+  bool view_only = false;
 };
 
 // The drawing as a whole page, and how the input lies on it. An SVG is planned for the
@@ -57,11 +58,15 @@ PageDrawing drawing_page(const EvalArgs& a, const Image& in) {
   return {std::move(pv), PageTransform(in.width, in.height, rect, 0, false)};
 }
 
-void print_text(const ViewScore& v, const ToneFit& tone, double de, const FidelityResult& r, double tone_sigma,
-                double edge_distance) {
+void print_view(const ViewScore& v) {
   std::printf("viewed at    sigma %.2f mm: SSIM %.3f, tone r %.3f, tone error %.3f (mean grey %.3f drawn, %.3f "
               "photo), mean dE00 %.2f\n",
               v.sigma_mm, v.ssim, v.tone_r, v.tone_err, v.mean_drawn, v.mean_photo, v.delta_e);
+}
+
+void print_text(const ViewScore& v, const ToneFit& tone, double de, const FidelityResult& r, double tone_sigma,
+                double edge_distance) {
+  print_view(v);
   std::printf("at the marks' spacing (%.2f px):\n", tone_sigma);
   std::printf("tone         slope %.3f, r %.3f (mean grey %.3f drawn, %.3f input)\n", tone.slope, tone.pearson,
               tone.mean_drawn, tone.mean_input);
@@ -84,7 +89,8 @@ void register_eval(CLI::App& app) {
       "Then the older figures, blurred at the mark spacing (or --sigma): tone fit (slope 1 = the\n"
       "photo's tones), colour, blurred SSIM and edge spill. Give the same --margin/--landscape the\n"
       "drawing was made with (an SVG brings its page), or --cropped if the PNG shows exactly the image.\n"
-      "Example: stipplot eval photo.jpg photo.svg --view-sigma 0.5mm --json");
+      "Example: stipplot eval photo.jpg photo.svg --view-sigma 0.5mm --json\n"
+      "         stipplot eval photo.jpg preview.png --view-only   (the viewing-distance figures alone)");
   cmd->add_option("input", args->input, "The input image")->required();
   cmd->add_option("drawing", args->drawing, "The drawing: SVG (stipplot METHOD -o) or preview PNG (--preview)")->required();
   add_placement_options(cmd, args->place);
@@ -97,6 +103,8 @@ void register_eval(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--edge-distance", args->opt.edge_distance, "Distance in px from an edge that counts as near")
       ->capture_default_str();
+  cmd->add_flag("--view-only", args->view_only,
+                "Only the viewing-distance figures: the older ones at the mark spacing take seconds more on a large photo");
   cmd->add_flag("--json", args->json, "One-line JSON output");
   cmd->callback([args] {
     EvalArgs& a = *args;
@@ -109,6 +117,15 @@ void register_eval(CLI::App& app) {
     const Image in = load_image(a.input);
     const PageDrawing pd = drawing_page(a, in);
     const ViewScore v = view_score(in, pd.tf, pd.page, vo);
+    nlohmann::json j = {{"view_sigma_mm", v.sigma_mm}, {"ssim_view", v.ssim}, {"tone_r_view", v.tone_r},
+                        {"tone_err_view", v.tone_err}, {"delta_e_view", v.delta_e},
+                        {"mean_grey_drawn_view", v.mean_drawn}, {"mean_grey_photo_view", v.mean_photo},
+                        {"view_px_per_mm", v.px_per_mm}};
+    if (a.view_only) {
+      if (a.json) std::printf("%s\n", j.dump().c_str());
+      else print_view(v);
+      return;
+    }
     const Image drawn = a.cropped ? pd.page : crop_to_image(pd.page, pd.tf, in.width, in.height);
     const FidelityResult r = evaluate_fidelity(in, drawn, a.opt);
     // The older tone and colour figures are seen where the marks merge: at their spacing.
@@ -116,11 +133,7 @@ void register_eval(CLI::App& app) {
     const ToneFit tone = fit_tone(in, drawn, tone_sigma);
     const double de = mean_delta_e00_blurred(in, drawn, tone_sigma);
     if (!a.json) return print_text(v, tone, de, r, tone_sigma, a.opt.edge_distance);
-    nlohmann::json j = {{"view_sigma_mm", v.sigma_mm}, {"ssim_view", v.ssim}, {"tone_r_view", v.tone_r},
-                        {"tone_err_view", v.tone_err}, {"delta_e_view", v.delta_e},
-                        {"mean_grey_drawn_view", v.mean_drawn}, {"mean_grey_photo_view", v.mean_photo},
-                        {"view_px_per_mm", v.px_per_mm},
-                        {"tone_slope", tone.slope}, {"tone_intercept", tone.intercept},
+    j.update(nlohmann::json{{"tone_slope", tone.slope}, {"tone_intercept", tone.intercept},
                         {"tone_r", tone.pearson}, {"mean_grey_input", tone.mean_input},
                         {"mean_grey_drawn", tone.mean_drawn}, {"mean_de00", de},
                         {"mark_spacing", r.mark_spacing}, {"tone_sigma", tone_sigma},
@@ -128,7 +141,7 @@ void register_eval(CLI::App& app) {
                         {"dot_spacing", r.dot_spacing},   {"dots", r.dots},
                         {"dark_dots", r.dark_dots},       {"light_dots", r.light_dots},
                         {"dots_near_edges", r.dots_near_edges}, {"spilled", r.spilled},
-                        {"edge_spill", r.edge_spill},     {"paper_level", r.paper_level}};
+                        {"edge_spill", r.edge_spill},     {"paper_level", r.paper_level}});
     std::printf("%s\n", j.dump().c_str());
   });
 }

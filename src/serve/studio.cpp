@@ -141,9 +141,10 @@ struct Studio::Impl {
   std::shared_ptr<PlotSession> session_for(const httplib::Request& req);
 };
 
-// One preview: the method on the photo (or its reduced copy while a control is dragged)
-// with the pen-true preview PNG, then, side by side, its plan for the profile (the plot
-// time) and `stipplot eval` of the preview (the fidelity). Superseded work is ended.
+// One preview: the method on the photo with the pen-true preview PNG, then, side by side,
+// its plan for the profile (the plot time of the job's own lines) and `stipplot eval` of
+// the preview (the fidelity). While a control is dragged: the method alone on the reduced
+// photo, its own plan's time. Superseded work is ended.
 json Studio::Impl::preview(const Settings& s, bool draft) {
   const auto t0 = std::chrono::steady_clock::now();
   std::string input, photo_name;
@@ -165,36 +166,6 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
   if (made->exit_code != 0) throw RequestError(400, error_line(*made));
   json summary = last_json_line(made->out);
 
-  const std::string job = stem + (dialect_of_profile(profile) == "hpgl" ? ".hpgl" : ".gcode");
-  std::vector<std::string> plan = {cfg.executable, "export", stem + ".svg", "-o", job, "--profile", profile, "--json"};
-  const auto plan_opts = option_args(s, cfg.methods, {"Planning", "Paths"});
-  plan.insert(plan.end(), plan_opts.begin(), plan_opts.end());
-  if (draft) plan.push_back("--optimize-seconds=0");  // the greedy plan while dragging: an estimate a little high
-  std::vector<std::string> eval = {cfg.executable, "eval", input, stem + ".png", "--json"};
-  // The page the method drew on (the profile's sheet unless --page says otherwise).
-  if (summary.contains("page_mm") && summary["page_mm"].size() == 2)
-    eval.push_back("--page=" + std::to_string(summary["page_mm"][0].get<double>()) + "x" +
-                   std::to_string(summary["page_mm"][1].get<double>()) + "mm");
-  for (const char* o : {"--margin", "--pen-width"})
-    if (s.has(o)) eval.push_back(std::string(o) + "=" + s.value_of(o, ""));
-  std::optional<ChildResult> planned, judged;
-  std::exception_ptr judge_failed;
-  std::thread judge([&] {
-    try {
-      judged = run_for_preview(gen, eval);
-    } catch (...) {
-      judge_failed = std::current_exception();  // rethrown below, not lost with the thread
-    }
-  });
-  try {
-    planned = run_for_preview(gen, plan);
-  } catch (...) {
-    judge.join();
-    throw;
-  }
-  judge.join();
-  if (judge_failed) std::rethrow_exception(judge_failed);
-  if (!planned || !judged) return {{"superseded", true}};
   json out = {{"gen", gen},
               {"draft", draft},
               {"marks", summary.value("primitives", 0)},
@@ -202,14 +173,54 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
               {"image_px", summary.value("image_px", json::array())},
               {"preview", "/files/" + stem + ".png"},
               {"seconds_method", summary.value("seconds_method", 0.0)}};
-  if (planned->exit_code == 0) {
-    const json p = last_json_line(planned->out);
-    out["plot_s"] = p["plan"]["total"]["seconds"];
-    out["pen_down_mm"] = p["plan"]["total"]["pen_down_mm"];
+  if (draft) {
+    // While a control moves, the method's own plan of its drawing for the profile gives
+    // the time (the planner's estimate; the job's lines are timed when the control is let
+    // go) and no second process runs: the fidelity waits for the full preview.
+    if (summary.contains("plan") && summary["plan"].contains("total")) {
+      out["plot_s"] = summary["plan"]["total"].value("seconds", 0.0);
+      out["pen_down_mm"] = summary["plan"]["total"].value("pen_down_mm", 0.0);
+    }
   } else {
-    out["plan_error"] = error_line(*planned);
+    const std::string job = stem + (dialect_of_profile(profile) == "hpgl" ? ".hpgl" : ".gcode");
+    std::vector<std::string> plan = {cfg.executable, "export", stem + ".svg", "-o", job, "--profile", profile, "--json"};
+    const auto plan_opts = option_args(s, cfg.methods, {"Planning", "Paths"});
+    plan.insert(plan.end(), plan_opts.begin(), plan_opts.end());
+    std::vector<std::string> eval = {cfg.executable, "eval", input, stem + ".png", "--view-only", "--json"};
+    // The page the method drew on (the profile's sheet unless --page says otherwise).
+    if (summary.contains("page_mm") && summary["page_mm"].size() == 2)
+      eval.push_back("--page=" + std::to_string(summary["page_mm"][0].get<double>()) + "x" +
+                     std::to_string(summary["page_mm"][1].get<double>()) + "mm");
+    for (const char* o : {"--margin", "--pen-width"})
+      if (s.has(o)) eval.push_back(std::string(o) + "=" + s.value_of(o, ""));
+    std::optional<ChildResult> planned, judged;
+    std::exception_ptr judge_failed;
+    std::thread judge([&] {
+      try {
+        judged = run_for_preview(gen, eval);
+      } catch (...) {
+        judge_failed = std::current_exception();  // rethrown below, not lost with the thread
+      }
+    });
+    try {
+      planned = run_for_preview(gen, plan);
+    } catch (...) {
+      judge.join();
+      throw;
+    }
+    judge.join();
+    if (judge_failed) std::rethrow_exception(judge_failed);
+    if (!planned || !judged) return {{"superseded", true}};
+    if (planned->exit_code == 0) {
+      const json p = last_json_line(planned->out);
+      out["plot_s"] = p["plan"]["total"]["seconds"];
+      out["pen_down_mm"] = p["plan"]["total"]["pen_down_mm"];
+    } else {
+      out["plan_error"] = error_line(*planned);
+    }
+    // The viewing-distance SSIM (sigma 1 mm on paper), the figure every quality claim uses.
+    if (judged->exit_code == 0) out["fidelity"] = last_json_line(judged->out).value("ssim_view", 0.0);
   }
-  if (judged->exit_code == 0) out["fidelity"] = last_json_line(judged->out).value("ssim_blurred", 0.0);
   std::vector<std::string> shown = method_argv(s, photo_name, "drawing.svg", profile);
   shown[0] = "stipplot";
   shown.insert(shown.begin() + 5, {"--preview", "drawing.png"});

@@ -170,6 +170,19 @@ TEST_CASE("serve http: a photo previews and plots on the simulator as the CLI do
   CHECK(p["marks"].get<int>() > 100);
   CHECK(p["plot_s"].get<double>() > 0);
   CHECK(p["fidelity"].get<double>() > 0);
+  CHECK(p["fidelity"].get<double>() < 1);
+  // While a control moves: the reduced photo, the method's own plan time, no measure.
+  r = cl.Post("/api/preview", R"({"method":"stipple","options":{"-b":"24px","--seed":"3"},"draft":true})",
+              "application/json");
+  REQUIRE(r->status == 200);
+  const json d = json::parse(r->body);
+  CHECK(d["draft"] == true);
+  CHECK(d["marks"].get<int>() > 50);
+  CHECK(d["plot_s"].get<double>() > 0);
+  CHECK_FALSE(d.contains("fidelity"));
+  // The full preview again: the downloads and the plot below are its drawing.
+  r = cl.Post("/api/preview", settings, "application/json");
+  REQUIRE(r->status == 200);
   // The profile is named: its sheet is the page, as for the plot's job.
   CHECK(p["command"] == "stipplot stipple photo.png -o drawing.svg --preview drawing.png -b 20px --seed=3 --profile=grbl-servo");
   auto png_r = cl.Get(("" + p["preview"].get<std::string>()).c_str());

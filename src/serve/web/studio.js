@@ -200,7 +200,8 @@ function showPreview(p, ms) {
       $('empty').style.display = 'none';
       $('s-marks').textContent = p.marks.toLocaleString('en');
       $('s-time').textContent = p.plot_s != null ? fmtTime(p.plot_s) : '–';
-      $('s-fid').textContent = p.fidelity != null ? p.fidelity.toFixed(3) : '–';
+      // A draft is not measured: its fidelity comes with the full preview.
+      $('s-fid').textContent = p.fidelity != null ? p.fidelity.toFixed(3) : p.draft ? '…' : '–';
       $('s-secs').textContent = (ms / 1000).toFixed(2) + ' s';
       $('draft-badge').style.visibility = p.draft ? 'visible' : 'hidden';
       $('cli').textContent = p.command;
