@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cctype>
+#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 
@@ -36,8 +37,11 @@ EbbCommand parse_ebb_command(std::string_view text, size_t line_no) {
     const size_t next = text.find(',', i + 1);
     const std::string num(text.substr(i + 1, next == std::string_view::npos ? std::string_view::npos : next - i - 1));
     char* end = nullptr;
+    errno = 0;
     const long long v = std::strtoll(num.c_str(), &end, 10);
     if (num.empty() || *end != '\0') return fail("'" + num + "' is not an integer");
+    // No EBB argument comes near 2^40; past it the step sums below would overflow.
+    if (errno == ERANGE || v > (1LL << 40) || v < -(1LL << 40)) return fail("'" + num + "' is out of range");
     c.args.push_back(v);
     i = next;
   }

@@ -219,6 +219,31 @@ TEST_CASE("A dropped link mid-plot, then plot --resume on the powered EBB, loses
   }
 }
 
+TEST_CASE("A plot resumed twice (the link dropped at 30 % and again at 70 %) still draws each mark once", "[ebb]") {
+  test::TempDir t;
+  const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));
+  ebbtest::EbbBoard board(t.file("fw.log"));
+  const size_t lines = static_cast<size_t>(test::count_lines(test::read_file(e.job)));
+  board.drop_after_commands(3 + lines * 3 / 10);
+  auto first = test::run_cli("plot " + e.job + " --profile axidraw-v3 --port " + board.port() + " --pen-change continue -q");
+  CHECK(first.exit_code != 0);
+  REQUIRE(board.dropped());
+  std::string port = board.reconnect();
+  // The resume's own queries (V, CU, QG, QS, QP, ...) come first: the drop lands in its job lines.
+  board.drop_after_commands(board.commands() + lines * 4 / 10);
+  auto second = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue -q");
+  INFO(first.err << second.err);
+  CHECK(second.exit_code != 0);
+  REQUIRE(board.dropped());
+  port = board.reconnect();
+  auto third = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json -q");
+  INFO(third.err);
+  REQUIRE(third.exit_code == 0);
+  CHECK(ebb_last_json(third.out)["completed"].get<bool>());
+  board.finish();
+  check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));
+}
+
 TEST_CASE("The host killed (SIGKILL) mid-plot, then plot --resume on the powered EBB, loses nothing", "[ebb]") {
   test::TempDir t;
   const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));

@@ -173,6 +173,10 @@ TEST_CASE("EBB job reader tracks motors, pen and the firmware's time", "[ebb]") 
   CHECK_THROWS_WITH(io::parse_ebb_job("LM,1,2,3\n", 80), Catch::Contains("only SM, SP, EM, SC and CU"));
   CHECK_THROWS_WITH(io::parse_ebb_job("SM,1,26,0\n", 80), Catch::Contains("25 per ms"));
   CHECK_THROWS_WITH(io::parse_ebb_job("SM,5,x,0\n", 80), Catch::Contains("line 1"));
+  // Found by the fuzzer: a step count past strtoll's range saturated, passed the rate check
+  // (llabs of the smallest long long) and overflowed the step sums.
+  CHECK_THROWS_WITH(io::parse_ebb_job("SM,21,-77777777777777777777777777,0\n", 80), Catch::Contains("out of range"));
+  CHECK_THROWS_WITH(io::parse_ebb_job("SM,21,0,9223372036854775807\n", 80), Catch::Contains("out of range"));
 }
 
 TEST_CASE("EBB firmware versions: 2.5 to 3.x, and what is not an EBB", "[ebb]") {

@@ -7,6 +7,7 @@
 #include "eval/bounded_blur.hpp"
 #include "eval/view.hpp"
 #include "plan/planner.hpp"
+#include "preview/preview.hpp"
 #include "test_util.hpp"
 #include "util/error.hpp"
 #include "util/threads.hpp"
@@ -177,15 +178,17 @@ TEST_CASE("a method's --measure and eval of its SVG give the same viewing-distan
 
 TEST_CASE("the measure is the same bit for bit on one thread and on several", "[eval][view][threads]") {
   const Image photo = load_image(test::example("coffee.png"));
-  const PageTransform tf(photo.width, photo.height, PageSpec{297, 210}, 10, false);
-  const Plan plan = halftone(photo, tf, 0.8);
+  const PageTransform tf(photo.width, photo.height, PageSpec{150, 100}, 5, false);
+  PreviewOptions po;
+  po.dpi = 10 * 25.4;  // measure.py's 10 px/mm: 1.5 MP
+  const Image page = render_plan(halftone(photo, tf, 0.8), po);
   for (bool colour : {false, true}) {
     ViewOptions o;
     o.colour = colour;
     ViewScore by[3];
     for (int threads : {1, 2, 3}) {
       set_thread_count(threads);
-      by[threads - 1] = view_score_of_plan(photo, tf, plan, o, 10);
+      by[threads - 1] = view_score(photo, tf, page, o);
     }
     set_thread_count(0);
     CAPTURE(colour, by[0].ssim, by[1].ssim);
