@@ -29,6 +29,10 @@ phase "set-up for the tests"
 # same lane, the EBB firmware tests (tests/ebb: the EiBotBoard firmware v3.0.2 compiled for
 # the PC, ebb_sim, streaming AxiDraw jobs). The other tests run beside them at nice 10 on
 # every core, and ebb_sim (a second or two) and the fuzz targets build at nice 19.
+# Tests run several at a time: each on one thread (OMP_NUM_THREADS, which --threads 0
+# follows), or N processes of N OpenMP threads would spin-wait for each other's cores. The
+# tests that compare thread counts set theirs.
+export OMP_NUM_THREADS=1
 fw_log=build/ci-firmware.log
 (cd build && ctest --output-on-failure -L firmware && ctest --output-on-failure -L ebb) >"$fw_log" 2>&1 &
 firmware=$!

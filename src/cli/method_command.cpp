@@ -222,7 +222,7 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
   cmd->add_option("--max-pixels", a.max_pixels, "Refuse images with more pixels than this")
       ->capture_default_str()->group("Input");
   cmd->add_option("--threads", a.threads,
-                  "Threads for the parallel parts (0: one per core); the drawing is the same for any count")
+                  "Threads for the parallel parts (0: one per core, or OMP_NUM_THREADS if set); the drawing is the same for any count")
       ->capture_default_str()->group("Input");
   add_placement_options(cmd, a.place);
   a.page_option = cmd->get_option("--page");

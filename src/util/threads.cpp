@@ -1,5 +1,8 @@
 #include "util/threads.hpp"
 
+#include <algorithm>
+#include <cstdlib>
+
 #include "util/error.hpp"
 
 #ifdef _OPENMP
@@ -14,6 +17,9 @@ constexpr int kMostThreads = 1024;
 void set_thread_count(int n) {
   require_range("--threads (0: one per core)", n, 0, kMostThreads);
 #ifdef _OPENMP
+  // 0 is an OMP_NUM_THREADS the user set (its first number), else one per core.
+  if (n == 0)
+    if (const char* env = std::getenv("OMP_NUM_THREADS"); env && std::atoi(env) > 0) n = std::min(std::atoi(env), kMostThreads);
   omp_set_num_threads(n == 0 ? omp_get_num_procs() : n);
 #endif
 }

@@ -6,7 +6,8 @@
 // bit for bit whatever the count. Without OpenMP (a compiler that lacks it) they run on one.
 namespace stipplot {
 
-// n threads from now on; 0 = one per core. Below 0 or above 1024 is refused.
+// n threads from now on; 0 = one per core, or OMP_NUM_THREADS when it is set. Below 0 or
+// above 1024 is refused.
 void set_thread_count(int n);
 // The threads a parallel part uses now (1 without OpenMP).
 int thread_count();
