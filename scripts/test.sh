@@ -29,18 +29,18 @@ phase "set-up for the tests"
 # same lane, the EBB firmware tests (tests/ebb: the EiBotBoard firmware v3.0.2 compiled for
 # the PC, ebb_sim, streaming AxiDraw jobs). The other tests run beside them at nice 10 on
 # every core, and ebb_sim (a second or two) and the fuzz targets build at nice 19.
-# Tests run several at a time: each on one thread (OMP_NUM_THREADS, which --threads 0
-# follows), or N processes of N OpenMP threads would spin-wait for each other's cores. The
-# tests that compare thread counts set theirs.
-export OMP_NUM_THREADS=1
+# Tests run several at a time: each on one thread (OMP_NUM_THREADS=1, which --threads 0
+# follows), or N processes of N OpenMP threads spin-wait for each other's cores (the tests'
+# CPU time fell by a third). The tests that compare thread counts set theirs. Not exported:
+# nproc follows it too, and the -j below must stay one a core.
 fw_log=build/ci-firmware.log
-(cd build && ctest --output-on-failure -L firmware && ctest --output-on-failure -L ebb) >"$fw_log" 2>&1 &
+(cd build && OMP_NUM_THREADS=1 ctest --output-on-failure -L firmware && OMP_NUM_THREADS=1 ctest --output-on-failure -L ebb) >"$fw_log" 2>&1 &
 firmware=$!
 (nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" && nice -n 19 bash scripts/fuzz.sh build) \
   >build/ci-build-beside.log 2>&1 &
 built_beside=$!
 status=0
-(cd build && nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults') || status=1
+(cd build && OMP_NUM_THREADS=1 nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults') || status=1
 phase "tests"
 wait "$firmware" || status=1
 cat "$fw_log"
@@ -54,7 +54,7 @@ fi
 # Faults injected into the built-in simulators (label faults), on a machine with nothing
 # else running: the simulators' clocks are the wall clock sped up (with the fuzz build
 # beside them at nice 19, or four at a time, a resume redrew 13 dots where one is allowed).
-(cd build && ctest --output-on-failure -j "$(nproc)" -L faults) || status=1
+(cd build && OMP_NUM_THREADS=1 ctest --output-on-failure -j "$(nproc)" -L faults) || status=1
 phase "simulator fault tests"
 [ "$status" -eq 0 ] || exit 1
 # [realtime] times a simulated plot against the wall clock, one test at a time; it sleeps
@@ -62,7 +62,7 @@ phase "simulator fault tests"
 # many wall-clock seconds; the tests keep their CPU whenever they want it).
 nice -n 19 bash scripts/fuzz.sh run >build/ci-fuzz-run.log 2>&1 &
 fuzz_run=$!
-(cd build && ctest --output-on-failure -L realtime) || status=1
+(cd build && OMP_NUM_THREADS=1 ctest --output-on-failure -L realtime) || status=1
 phase "real-time tests"
 wait "$fuzz_run" || status=1
 cat build/ci-fuzz-run.log
