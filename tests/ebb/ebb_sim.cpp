@@ -283,12 +283,13 @@ void EbbBoard::relay() {
     }
     [[maybe_unused]] ssize_t w = ::write(to_fw_, buf, k);
     if (drop_after_ && commands_ >= drop_after_ && !dropped_) {
-      // The cable is pulled: the rest is lost and the client's pty hangs up.
+      // The cable is pulled: the rest is lost and the client's pty hangs up. Said before the
+      // hang-up: the client exits on it, and its test asks dropped() at once.
+      dropped_ = true;
+      drop_after_ = 0;
       std::lock_guard<std::mutex> lk(mu_);
       ::close(master_);
       master_ = -1;
-      dropped_ = true;
-      drop_after_ = 0;
     }
   }
 }
