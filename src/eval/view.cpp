@@ -90,13 +90,19 @@ cv::Mat box_kernel(double width_px) {
   return k / cv::sum(k)[0];
 }
 
+// f(y) for rows 0..n-1, rows side by side.
+template <class F>
+void for_rows(int n, F&& f) {
+#pragma omp parallel for schedule(static) num_threads(thread_count()) if (n >= 64)
+  for (int y = 0; y < n; ++y) f(y);
+}
+
 // Sums f(y) over rows 0..n-1 as per-row partial sums added in row order: the same total
 // on any thread count.
 template <class F>
 double sum_rows(int n, F&& f) {
   std::vector<double> row(static_cast<size_t>(std::max(n, 0)));
-#pragma omp parallel for schedule(static) num_threads(thread_count()) if (n >= 64)
-  for (int y = 0; y < n; ++y) row[static_cast<size_t>(y)] = f(y);
+  for_rows(n, [&](int y) { row[static_cast<size_t>(y)] = f(y); });
   double total = 0;
   for (double v : row) total += v;
   return total;
@@ -109,11 +115,10 @@ double ssim_mm(const cv::Mat& a, const cv::Mat& b, double px_per_mm) {
   const double win = kWindowMm * px_per_mm;
   const cv::Mat k = box_kernel(win);
   cv::Mat in[5] = {a, b, cv::Mat(a.size(), CV_64F), cv::Mat(a.size(), CV_64F), cv::Mat(a.size(), CV_64F)};
-  sum_rows(a.rows, [&](int y) {
+  for_rows(a.rows, [&](int y) {
     const double *pa = a.ptr<double>(y), *pb = b.ptr<double>(y);
     double *aa = in[2].ptr<double>(y), *bb = in[3].ptr<double>(y), *ab = in[4].ptr<double>(y);
     for (int x = 0; x < a.cols; ++x) aa[x] = pa[x] * pa[x], bb[x] = pb[x] * pb[x], ab[x] = pa[x] * pb[x];
-    return 0.0;
   });
   cv::Mat mean[5];
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
@@ -140,23 +145,19 @@ double ssim_mm(const cv::Mat& a, const cv::Mat& b, double px_per_mm) {
 void tone_figures(const cv::Mat& a, const cv::Mat& b, ViewScore& v) {
   const double n = static_cast<double>(a.total());
   double sa = 0, sb = 0;
-  const double mean_a = sum_rows(a.rows, [&](int y) {
-    const double* p = a.ptr<double>(y);
-    double s = 0;
-    for (int x = 0; x < a.cols; ++x) s += p[x];
-    return s;
-  }) / n;
-  const double mean_b = sum_rows(b.rows, [&](int y) {
-    const double* p = b.ptr<double>(y);
-    double s = 0;
-    for (int x = 0; x < b.cols; ++x) s += p[x];
-    return s;
-  }) / n;
+  auto mean_of = [&](const cv::Mat& m) {
+    return sum_rows(m.rows, [&](int y) {
+      const double* p = m.ptr<double>(y);
+      double s = 0;
+      for (int x = 0; x < m.cols; ++x) s += p[x];
+      return s;
+    }) / n;
+  };
+  const double mean_a = mean_of(a), mean_b = mean_of(b);
   double err = 0, cov = 0;
   std::vector<double> row_err(static_cast<size_t>(a.rows)), row_cov(row_err.size()), row_va(row_err.size()),
       row_vb(row_err.size());
-#pragma omp parallel for schedule(static) num_threads(thread_count()) if (a.rows >= 64)
-  for (int y = 0; y < a.rows; ++y) {
+  for_rows(a.rows, [&](int y) {
     const double *p = a.ptr<double>(y), *q = b.ptr<double>(y);
     double e = 0, c = 0, va = 0, vb = 0;
     for (int x = 0; x < a.cols; ++x) {
@@ -168,7 +169,7 @@ void tone_figures(const cv::Mat& a, const cv::Mat& b, ViewScore& v) {
     }
     row_err[static_cast<size_t>(y)] = e, row_cov[static_cast<size_t>(y)] = c;
     row_va[static_cast<size_t>(y)] = va, row_vb[static_cast<size_t>(y)] = vb;
-  }
+  });
   for (size_t y = 0; y < row_err.size(); ++y) err += row_err[y], cov += row_cov[y], sa += row_va[y], sb += row_vb[y];
   v.mean_photo = mean_a;
   v.mean_drawn = mean_b;
