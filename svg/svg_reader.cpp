@@ -1366,12 +1366,12 @@ const char* href_of(const XML_Char** attrs, int which) {
 // no "href" at all names none: a scan for it (memory speed) replaces the pass.
 std::optional<std::unordered_set<std::string>> referenced_ids(const Source& src) {
   bool any = false;
-  std::string carry;  // the end of the previous chunk, for a match across chunks
+  std::string seam;  // the previous chunk's last 3 bytes, then this one's first 3: a match across chunks
   src.each_chunk([&](const char* d, size_t n, bool) {
-    std::string_view view(d, n);
-    any = (carry + std::string(view.substr(0, std::min<size_t>(n, 3)))).find("href") != std::string::npos ||
-          view.find("href") != std::string_view::npos;
-    carry = std::string(view.substr(n - std::min<size_t>(n, 3)));
+    const std::string_view view(d, n);
+    seam.append(view.substr(0, 3));
+    any = seam.find("href") != std::string::npos || view.find("href") != std::string_view::npos;
+    seam.assign(view.substr(n - std::min<size_t>(n, 3)));
     return !any;
   });
   if (!any) return std::unordered_set<std::string>{};
