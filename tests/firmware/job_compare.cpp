@@ -1,6 +1,7 @@
 #include "firmware/job_compare.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <map>
 #include <tuple>
@@ -49,6 +50,33 @@ MarkComparison compare_marks(const std::vector<Mark>& expected, const std::vecto
   c.lost = c.lost_marks.size();
   c.doubled = c.doubled_marks.size();
   return c;
+}
+
+std::vector<Mark> bare_on_paper(const std::vector<Mark>& lost, const std::vector<Mark>& drawn, double tol) {
+  std::vector<Mark> bare;
+  for (const Mark& m : lost) {
+    const double ax = static_cast<double>(m.a.x), ay = static_cast<double>(m.a.y);
+    const double dx = static_cast<double>(m.b.x) - ax, dy = static_cast<double>(m.b.y) - ay, len = std::hypot(dx, dy);
+    if (m.kind == Mark::Kind::Dot || len == 0) {
+      bare.push_back(m);
+      continue;
+    }
+    // A point's place along the mark, and its distance from the mark's line, in steps.
+    auto along = [&](const Steps& p) { return ((static_cast<double>(p.x) - ax) * dx + (static_cast<double>(p.y) - ay) * dy) / len; };
+    auto off = [&](const Steps& p) { return std::abs((static_cast<double>(p.x) - ax) * dy - (static_cast<double>(p.y) - ay) * dx) / len; };
+    std::vector<std::pair<double, double>> spans;
+    for (const Mark& d : drawn) {
+      if (d.kind == Mark::Kind::Dot || off(d.a) > tol || off(d.b) > tol) continue;
+      const double u = along(d.a), v = along(d.b);
+      spans.emplace_back(std::min(u, v), std::max(u, v));
+    }
+    std::sort(spans.begin(), spans.end());
+    double reached = 0;  // covered from the mark's start up to here
+    for (const auto& [from, to] : spans)
+      if (from <= reached + tol) reached = std::max(reached, to);
+    if (reached < len - tol) bare.push_back(m);
+  }
+  return bare;
 }
 
 std::string MarkComparison::summary() const {

@@ -25,6 +25,13 @@ struct MarkComparison {
 // XY. O(n log n).
 MarkComparison compare_marks(const std::vector<Mark>& expected, const std::vector<Mark>& drawn);
 
+// The lost segments that the drawn pieces leave bare on paper. A move cut short by a power
+// loss and its rest drawn after the resume are two pieces, neither of which is the job's
+// mark, yet together they draw it: a segment counts as drawn when pieces lying along it
+// (both ends within `tol` steps of its line) cover it end to end, with gaps of at most
+// `tol` steps. Lost dots stay lost. O(lost x drawn).
+std::vector<Mark> bare_on_paper(const std::vector<Mark>& lost, const std::vector<Mark>& drawn, double tol = 2);
+
 // The job file against everything the firmware drew in all its sessions.
 struct JobCheck {
   MarkComparison marks;

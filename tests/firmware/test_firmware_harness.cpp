@@ -160,6 +160,19 @@ TEST_CASE("firmware model: grbl's view of a servo and a Z-pen job", "[firmware-l
   CHECK(same.lost == 0);
   auto less = compare_marks(m, {m[1]});
   CHECK(less.lost == 1);
+  // A stroke cut by a power loss at x = 16 and resumed from a status report's x = 14: two
+  // pieces, neither the job's mark, that draw it on paper. Resumed from x = 17 instead,
+  // x 16-17 stays bare; a piece off the stroke's line covers nothing.
+  const Mark cut{Mark::Kind::Partial, {1000, 1000, 0}, {1600, 1000, 0}};
+  const Mark rest{Mark::Kind::Segment, {1400, 1001, 0}, {2000, 1000, 0}};
+  auto split = compare_marks(m, {m[1], cut, rest});
+  CHECK(split.lost == 1);
+  CHECK(bare_on_paper(split.lost_marks, {m[1], cut, rest}).empty());
+  const Mark late{Mark::Kind::Segment, {1700, 1000, 0}, {2000, 1000, 0}};
+  CHECK(bare_on_paper(split.lost_marks, {cut, late}).size() == 1);
+  const Mark beside{Mark::Kind::Segment, {1400, 1010, 0}, {2000, 1010, 0}};
+  CHECK(bare_on_paper(split.lost_marks, {cut, beside}).size() == 1);
+  CHECK(bare_on_paper({m[1]}, {cut, rest}).size() == 1);  // a dot is a dot
 }
 
 TEST_CASE("grbl firmware: settings, a job sent line by line, and what the logs prove", "[firmware]") {
