@@ -1,5 +1,9 @@
 #include "methods/stipple/stipple.hpp"
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -424,6 +428,10 @@ void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
   constexpr int kBandRows = 16;
   const int bands = (h + kBandRows - 1) / kBandRows;
   std::vector<std::vector<uint32_t>> reaching(static_cast<size_t>(bands));
+  struct Sum {
+    double x = 0, y = 0, w = 0;
+  };
+  std::vector<Sum> sums(pts.size());
   for (int it = 0; it < iterations; ++it) {
     for (auto& r : reaching) r.clear();
     for (uint32_t k = 0; k < pts.size(); ++k) {
@@ -442,33 +450,72 @@ void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
       std::fill(best.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(by0) * static_cast<size_t>(w)),
                 best.begin() + static_cast<std::ptrdiff_t>(static_cast<size_t>(by1 + 1) * static_cast<size_t>(w)),
                 std::numeric_limits<float>::infinity());
+      std::vector<double> dx2;  // (x + 0.5 - dot's x)^2 across its window, as each row has it
       for (const uint32_t k : reaching[static_cast<size_t>(b)]) {
         const Window& wk = win[k];
+        dx2.resize(static_cast<size_t>(wk.x1 - wk.x0 + 1));
+        for (int x = wk.x0; x <= wk.x1; ++x) {
+          const double dx = x + 0.5 - pts[k].x;
+          dx2[static_cast<size_t>(x - wk.x0)] = dx * dx;
+        }
         for (int y = std::max(wk.y0, by0); y <= std::min(wk.y1, by1); ++y) {
-          const double dy = y + 0.5 - pts[k].y;
-          const size_t row = static_cast<size_t>(y) * static_cast<size_t>(w);
-          for (int x = wk.x0; x <= wk.x1; ++x) {
-            const double dx = x + 0.5 - pts[k].x;
-            const float d2 = static_cast<float>(dx * dx + dy * dy);
-            if (d2 < best[row + static_cast<size_t>(x)]) best[row + static_cast<size_t>(x)] = d2, owner[row + static_cast<size_t>(x)] = k;
+          const double dy = y + 0.5 - pts[k].y, dy2 = dy * dy;
+          const size_t row = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(wk.x0);
+          float* __restrict bp = best.data() + row;
+          uint32_t* __restrict op = owner.data() + row;
+          const double* __restrict d = dx2.data();
+          size_t x = 0;
+#ifdef __SSE2__
+          // Four cells at a time (SSE2 is every x86-64's): the same sums, roundings and
+          // strict comparison as the loop below, so the same bits.
+          const __m128d vdy2 = _mm_set1_pd(dy2);
+          const __m128i vk = _mm_set1_epi32(static_cast<int>(k));
+          for (; x + 4 <= dx2.size(); x += 4) {
+            const __m128 lo = _mm_cvtpd_ps(_mm_add_pd(_mm_loadu_pd(d + x), vdy2));
+            const __m128 hi = _mm_cvtpd_ps(_mm_add_pd(_mm_loadu_pd(d + x + 2), vdy2));
+            const __m128 d2 = _mm_movelh_ps(lo, hi);
+            const __m128 b4 = _mm_loadu_ps(bp + x);
+            const __m128 nearer = _mm_cmplt_ps(d2, b4);
+            _mm_storeu_ps(bp + x, _mm_or_ps(_mm_and_ps(nearer, d2), _mm_andnot_ps(nearer, b4)));
+            const __m128i m = _mm_castps_si128(nearer);
+            const __m128i o4 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(op + x));
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(op + x), _mm_or_si128(_mm_and_si128(m, vk), _mm_andnot_si128(m, o4)));
+          }
+#endif
+          for (; x < dx2.size(); ++x) {
+            const float d2 = static_cast<float>(d[x] + dy2);
+            const bool nearer = d2 < bp[x];
+            bp[x] = nearer ? d2 : bp[x];
+            op[x] = nearer ? k : op[x];
           }
         }
       }
     }
-    // A dot owns no cell outside its window: only it wrote its index there this iteration.
-#pragma omp parallel for schedule(dynamic, 256)
-    for (size_t k = 0; k < pts.size(); ++k) {
-      const Window& wk = win[k];
-      double sx = 0, sy = 0, sw = 0;
-      for (int y = wk.y0; y <= wk.y1; ++y)
-        for (int x = wk.x0; x <= wk.x1; ++x) {
-          const size_t i = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
-          if (owner[i] != k || !std::isfinite(best[i])) continue;
-          const double wt = weight[plane[i]];
-          sx += wt * (x + 0.5), sy += wt * (y + 0.5), sw += wt;
+    // Each dot's centroid, in one pass over the cells in row order: a dot's cells come in
+    // the order a walk over its own window would take them, so its sums are the same bit
+    // for bit, and each cell is read once instead of once for every dot whose window holds
+    // it (about nine). Serial: split by rows, a dot's sums would be added in another order.
+    // A run of one dot's cells along a row is summed in registers, then stored.
+    std::fill(sums.begin(), sums.end(), Sum{});
+    for (int y = 0; y < h; ++y) {
+      const size_t row = static_cast<size_t>(y) * static_cast<size_t>(w);
+      uint32_t run = std::numeric_limits<uint32_t>::max();
+      Sum s;
+      for (int x = 0; x < w; ++x) {
+        const size_t i = row + static_cast<size_t>(x);
+        if (!std::isfinite(best[i])) continue;  // no dot reached it (owner is stale)
+        if (owner[i] != run) {
+          if (run != std::numeric_limits<uint32_t>::max()) sums[run] = s;
+          run = owner[i];
+          s = sums[run];
         }
-      if (sw > 0) pts[k] = {sx / sw, sy / sw};
+        const double wt = weight[plane[i]];
+        s.x += wt * (x + 0.5), s.y += wt * (y + 0.5), s.w += wt;
+      }
+      if (run != std::numeric_limits<uint32_t>::max()) sums[run] = s;
     }
+    for (size_t k = 0; k < pts.size(); ++k)
+      if (sums[k].w > 0) pts[k] = {sums[k].x / sums[k].w, sums[k].y / sums[k].w};
   }
 }
 
