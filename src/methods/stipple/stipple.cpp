@@ -423,8 +423,7 @@ void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
   std::vector<Window> win(pts.size());
   // Parallel without changing a bit (util/threads.hpp): the cells' nearest dots are found in
   // bands of rows, each band taking the dots that reach it in index order, as one pass over
-  // all dots would; each dot's centroid sums its own cells in row order, as one pass over
-  // all cells would.
+  // all dots would.
   constexpr int kBandRows = 16;
   const int bands = (h + kBandRows - 1) / kBandRows;
   std::vector<std::vector<uint32_t>> reaching(static_cast<size_t>(bands));

@@ -149,7 +149,8 @@ Drawing stipple_on_page(const StippleCanvas& canvas, const PageStipple& law, dou
 // pattern keeps the sampled density 1/r^2), `iterations` times; a point claims the cells
 // within 1.5 of its own spacing, and cells of levels that get no points weigh nothing.
 // O(iterations x cells x overlap).
-// Parallel over bands of rows and over dots, the same bit for bit on any thread count.
+// The nearest dots in parallel over bands of rows, the centroids in one pass over the
+// cells; the same bit for bit on any thread count.
 void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, const pds::RadiusTable& radius, int w,
                   int h, int iterations);
 
