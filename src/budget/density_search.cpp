@@ -62,6 +62,20 @@ SearchOutcome choose_density(const SearchOptions& opt, const std::function<doubl
       if (tt <= budget && tt > best_t) best_t = tt, best_k = kk;
     if (best_t >= 0) k = best_k, t = best_t;
   }
+  // None fitted (the time is far from linear in k there: a sparse tree's travel): go on
+  // below the lowest knob that was over, by the latest ratio, and then by halves, so the
+  // kept drawing is within the budget. At most four more runs.
+  for (int extra = 0; t > budget && k > 0 && extra < 4; ++extra) {
+    double over = k;
+    for (const auto& [kk, tt] : tried)
+      if (tt > budget) over = std::min(over, kk);
+    k = std::min(knob_for(aim, scale, predict), (extra == 0 ? 0.9 : 0.5) * over);
+    const double p = predict(k);
+    t = run(k);
+    tried.emplace_back(k, t);
+    ++out.runs;
+    if (p > 0) scale = t / p;
+  }
   out.knob = k;
   out.seconds = t;
   out.finest = k >= 1.0 && t <= budget;

@@ -30,7 +30,8 @@ struct SearchOutcome {
 // estimate (the caller keeps every run's result). Both must be non-decreasing in k.
 // `calibrate(k)`, if given, is called once at the first predicted knob before any run:
 // a method may run a cheap pilot there to correct its prediction (the knob is then
-// predicted again). Time: ~100 predictions, the pilot, 1-3 runs.
+// predicted again). Time: ~100 predictions, the pilot, 1-3 runs (up to 7 when none of
+// the first three fits the budget).
 SearchOutcome choose_density(const SearchOptions& opt, const std::function<double(double)>& predict,
                              const std::function<double(double)>& run,
                              const std::function<void(double)>& calibrate = {});

@@ -101,4 +101,15 @@ TEST_CASE("the density search lands in the budget with at most one correction", 
     const SearchOutcome j = choose_density(o, predict, jumpy);
     CHECK(j.seconds <= 3600);
   }
+  SECTION("when none of the first runs fits, it goes on below them until one does") {
+    // A sparse tree's travel: at small knobs the time hardly falls with k, so each
+    // correction by the ratio overshoots (seen: tree at 10 min, 611 s kept for 600).
+    auto flat = [&](double k) { ++runs; return 3000 + 1500 * std::sqrt(k); };
+    runs = 0;
+    const SearchOutcome g = choose_density(o, predict, flat);
+    CHECK(g.seconds <= 3600);
+    CHECK(g.seconds == flat(g.knob));
+    CHECK(g.runs <= 7);
+    CHECK(g.runs > 3);
+  }
 }
