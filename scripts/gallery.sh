@@ -50,6 +50,8 @@ draw stipple-hubble stipple "$img/hubble_deep_field.jpg" -m negative --landscape
 draw stipple-starry-cmyk stipple "$img/starry_night.jpg" -m cmyk --landscape
 draw tree-horse tree "$img/horse.png" --landscape
 detail tree-horse
+draw tree-horse-paper tree "$img/horse.png" --landscape --law linear   # the paper's look: SIBD over the whole page
+detail tree-horse-paper
 draw sketch-starry sketch "$img/starry_night.jpg" --landscape
 draw pointillism-starry pointillism "$img/starry_night.jpg" --landscape
 draw hatch-rocket hatch "$img/rocket.jpg"
