@@ -21,6 +21,7 @@ struct PointillismArgs {
   std::string radius = "3";
   bool no_ebauche = false, no_strokes = false;
   std::string pens_file;
+  std::string ebauche = "hatch";  // with pens: hatch | circles
   bool plot_pens = false;
   bool fidelity = false;
   double fidelity_sigma = 0;
@@ -46,7 +47,12 @@ void resolve(PointillismArgs& a) {
   if (!a.pens_file.empty()) a.pens = load_palette(a.pens_file, pointillism::kDefaultPenWidthMm).pens;
   else if (a.plot_pens) a.pens = pointillism::default_pens();
   check_max_pens(a.max_pens, a.pens.size(), a.pens_file.empty() ? "the built-in palette" : a.pens_file);
+  if (a.ebauche != "hatch" && a.ebauche != "circles")
+    throw UserError("--ebauche: unknown style '" + a.ebauche + "' (use hatch or circles)");
 }
+
+// The ebauche is hatched where there are pens to lay it (exact colours stay circles).
+bool hatched(const PointillismArgs& a) { return !a.pens.empty() && a.p.ebauche && a.ebauche == "hatch"; }
 
 nlohmann::json regions_summary(const pointillism::Result& res) {
   nlohmann::json regions = nlohmann::json::array();
@@ -65,7 +71,28 @@ nlohmann::json regions_summary(const pointillism::Result& res) {
   return regions;
 }
 
-MethodResult draw(PointillismArgs& a, const MethodInput& given) {
+// The painting (pixel space, once) and the pens it is placed with: `at(k)` lays it at the
+// density k (the hatched ebauche's lines 1/k as far apart, the share k of the dots).
+struct Painted {
+  std::shared_ptr<pointillism::Result> res;
+  Placement placement;
+  std::vector<Pen> pens;
+  bool hatch = false;
+  MethodResult base;  // everything but the drawing
+  MethodResult at(double k) const {
+    MethodResult out = base;
+    pointillism::PlaceOptions o;
+    o.hatch_ebauche = hatch;
+    o.coverage = hatch ? k : 1;
+    o.stroke_share = hatch ? k * k * k : 1;
+    out.drawing = pointillism::place(*res, placement, pens, o);
+    out.counts += " in " + layers_phrase(out.drawing.layers.size());
+    if (hatch) out.summary["ebauche_coverage"] = k;
+    return out;
+  }
+};
+
+Painted paint_once(PointillismArgs& a, const MethodInput& given) {
   // On a grid of one pen width a cell: the same page and pen give the same painting
   // whatever the file's resolution (--radius in px and --blur are in its cells).
   const PageTransform input_tf = given.placement.transform(given.image.width, given.image.height);
@@ -83,11 +110,12 @@ MethodResult draw(PointillismArgs& a, const MethodInput& given) {
     // The circles do not depend on the pens: paint the small copy once, place it per set.
     const SearchInput search = reduced_input(in, greedy_pen_evaluations(a.pens.size(), static_cast<size_t>(a.max_pens)));
     const pointillism::Result small = pointillism::paint(search.image, a.p);
+    pointillism::PlaceOptions po;
+    po.hatch_ebauche = hatched(a);  // judged as it will be drawn (at the full tone)
     choice = choose_pens(a.pens, static_cast<size_t>(a.max_pens), search,
-                         [&](const std::vector<Pen>& set) { return pointillism::place(small, search.placement, set); });
+                         [&](const std::vector<Pen>& set) { return pointillism::place(small, search.placement, set, po); });
     draw_pens = choice.pens;
   }
-  out.drawing = pointillism::place(*res, in.placement, draw_pens);
   const bool pens = !a.pens.empty();
   nlohmann::json& s = out.summary;
   s["radius_px"] = a.p.radius_px;
@@ -113,11 +141,13 @@ MethodResult draw(PointillismArgs& a, const MethodInput& given) {
       run.note("mean dE00", de);
     };
   }
-  out.counts = std::to_string(res->ebauche.size()) + " ebauche + " + std::to_string(res->strokes.size()) +
-               " stroke circles in " + layers_phrase(out.drawing.layers.size()) + " (" + pixel_size(given.image) + " on a " +
+  const bool hatch = hatched(a);
+  s["ebauche_style"] = hatch ? "hatch" : "circles";
+  out.counts = std::to_string(res->ebauche.size()) + " ebauche " + (hatch ? "circles hatched" : "circles") + " + " +
+               std::to_string(res->strokes.size()) + " stroke circles (" + pixel_size(given.image) + " on a " +
                pixel_size(grid.image) + " grid)";
   if (a.max_pens > 0) report_pen_choice(choice, out);
-  return out;
+  return Painted{res, in.placement, draw_pens, hatch, std::move(out)};
 }
 }  // namespace
 
@@ -154,6 +184,10 @@ void register_pointillism(CLI::App& app) {
       ->capture_default_str()->group(g);
   cmd->add_flag("--no-ebauche", args->no_ebauche, "Divided strokes on white paper only")->group(g);
   cmd->add_flag("--no-strokes", args->no_strokes, "The ebauche alone (Fig. 6b)")->group(g);
+  cmd->add_option("--ebauche", args->ebauche,
+                  "With pens: hatch (each pen's ebauche circles filled by one linked hatching, few pen lifts; the\n"
+                  "budget spaces its lines) or circles (each circle filled on its own, the paper's)")
+      ->capture_default_str()->group(g);
   cmd->add_option("--seed", args->p.seed, "Random seed; the same seed gives the same drawing")
       ->capture_default_str()->group(g);
   cmd->add_flag("--plot-pens", args->plot_pens, "Map colours to the built-in fineliner palette, one layer per pen")
@@ -166,7 +200,15 @@ void register_pointillism(CLI::App& app) {
       ->group("Output");
   cmd->add_option("--fidelity-sigma", args->fidelity_sigma, "Blur for --fidelity in input px (0 = 2 x radius)")
       ->capture_default_str()->group("Output");
-  m->define([args] { resolve(*args); }, [args](const MethodInput& in) { return thinned_density(in, [args, &in] { return draw(*args, in); }); });
+  m->define([args] { resolve(*args); },
+            [args](const MethodInput& in) {
+              // A hatched ebauche is thinned by spacing its lines, not by leaving out whole ones.
+              if (hatched(*args)) {
+                auto painted = std::make_shared<Painted>(paint_once(*args, in));
+                return scaled_density(in, [painted](double k) { return painted->at(k); });
+              }
+              return thinned_density(in, [args, &in] { return paint_once(*args, in).at(1); });
+            });
 }
 
 }  // namespace stipplot::cli

@@ -89,6 +89,12 @@ MethodDraft spaced_density(const MethodInput& in, std::function<MethodResult(dou
 // rest. Costs one run of the method, its quick estimate, and O(marks) a thinning.
 MethodDraft thinned_density(const MethodInput& in, std::function<MethodResult()> draw);
 
+// A method that scales its own density: draw(k) lays about the share k of its full
+// drawing's ink and time (pointillism's hatched ebauche: its lines 1/k as far apart, and
+// the share k of its dots). The full run's plot time scaled by k predicts the rest. Costs
+// one full run and its quick estimate, then one draw(k) a density the search tries.
+MethodDraft scaled_density(const MethodInput& in, std::function<MethodResult(double k)> draw);
+
 // The drawing with the share k of every layer's marks of each kind (see thinned_density).
 Drawing thin_marks(const Drawing& d, double k);
 

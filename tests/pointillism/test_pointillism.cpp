@@ -441,3 +441,35 @@ TEST_CASE("CLI - pointillism writes SVG - preview and JSON - bad input fails wit
   test::RunResult help = test::run_cli("pointillism --help");
   CHECK(help.out.find("Example:") != std::string::npos);
 }
+
+TEST_CASE("with pens the ebauche is hatched per colour region: fewer pen lifts, more ink, truer colour in the same time", "[pointillism][cli]") {
+  test::TempDir t;
+  auto run = [&](const std::string& style) {
+    test::RunResult r = test::run_cli("pointillism " + kCoffee + " --plot-pens --page 148x105mm --time 10min --ebauche " + style +
+                                      " -o " + t.file(style + ".svg") + " --fidelity --json");
+    INFO(style << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    return nlohmann::json::parse(r.out);
+  };
+  const auto hatch = run("hatch"), circles = run("circles");
+  CHECK(hatch["ebauche_style"] == "hatch");
+  CHECK(circles["ebauche_style"] == "circles");
+  size_t lines = 0;
+  for (const auto& l : hatch["layers"]) lines += l["lines"].get<size_t>();
+  CHECK(lines > 0);  // the ebauche's hatching
+  for (const auto& j : {hatch, circles}) CHECK(j["plan"]["total"]["seconds"].get<double>() <= 600);
+  const auto& h = hatch["plan"]["total"];
+  const auto& c = circles["plan"]["total"];
+  INFO("hatch: " << h.dump() << " de " << hatch["mean_de00"] << "; circles: " << c.dump() << " de " << circles["mean_de00"]);
+  CHECK(h["pen_lifts"].get<double>() < 0.8 * c["pen_lifts"].get<double>());
+  CHECK(h["pen_down_mm"].get<double>() > 1.5 * c["pen_down_mm"].get<double>());
+  CHECK(hatch["mean_de00"].get<double>() < circles["mean_de00"].get<double>() - 5);
+  // Exact colours (no pens) keep the paper's circles.
+  test::RunResult exact = test::run_cli("pointillism " + kCoffee + " --page 148x105mm -o " + t.file("e.svg") + " --json");
+  REQUIRE(exact.exit_code == 0);
+  CHECK(nlohmann::json::parse(exact.out)["ebauche_style"] == "circles");
+  test::RunResult bad = test::run_cli("pointillism " + kCoffee + " --plot-pens --ebauche scribble -o " + t.file("b.svg"));
+  CHECK(bad.exit_code != 0);
+  CHECK(bad.err.find("--ebauche") != std::string::npos);
+  CHECK_FALSE(fs::exists(t.file("b.svg")));
+}

@@ -1,7 +1,10 @@
 #include "methods/pointillism/pointillism.hpp"
 
+#include "methods/hatch/hatch_lines.hpp"
+
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -266,7 +269,84 @@ Result paint(const Image& image, const Params& p) {
   return r;
 }
 
-Drawing place(const Result& r, const Placement& placement, const std::vector<Pen>& pens) {
+namespace {
+
+// The ebauche as hatching per colour region: every cell (half a pen width) takes the pen
+// of its nearest ebauche circle (the paper counts as a pen: no ink), then the pen most
+// cells within `kModeMm` take, so neighbouring circles that dither between two pens make
+// one region, not a speckle a pen lift each. Each pen's region is hatched at its own
+// angle. O(circles r^2 + cells x pens).
+constexpr double kModeMm = 2.0;
+
+void hatch_ebauche(const std::vector<std::pair<Vec2, size_t>>& circles, size_t n_pens, double radius_mm,
+                   const PageTransform& tf, int w, int h, double pen_mm, double coverage, std::vector<Layer>& layers) {
+  const double cell = pen_mm / 2;
+  const Vec2 lo = tf.map(0, 0), hi = tf.map(w, h);
+  const double x0 = std::min(lo.x, hi.x), y0 = std::min(lo.y, hi.y);
+  const int W = std::max(1, static_cast<int>(std::ceil(std::abs(hi.x - lo.x) / cell)));
+  const int H = std::max(1, static_cast<int>(std::ceil(std::abs(hi.y - lo.y) / cell)));
+  const size_t n = static_cast<size_t>(W) * static_cast<size_t>(H);
+  constexpr uint8_t kNone = 255;  // no circle: bare paper
+  std::vector<uint8_t> pen(n, kNone);
+  std::vector<float> best(n, std::numeric_limits<float>::infinity());
+  const double rc = radius_mm / cell;
+  for (const auto& [c, k] : circles) {
+    const double cx = (c.x - x0) / cell, cy = (c.y - y0) / cell;
+    const int ylo = std::max(0, static_cast<int>(std::floor(cy - rc))), yhi = std::min(H - 1, static_cast<int>(std::ceil(cy + rc)));
+    const int xlo = std::max(0, static_cast<int>(std::floor(cx - rc))), xhi = std::min(W - 1, static_cast<int>(std::ceil(cx + rc)));
+    for (int y = ylo; y <= yhi; ++y)
+      for (int x = xlo; x <= xhi; ++x) {
+        const double dx = x + 0.5 - cx, dy = y + 0.5 - cy;
+        const float d2 = static_cast<float>(dx * dx + dy * dy);
+        const size_t i = static_cast<size_t>(y) * static_cast<size_t>(W) + static_cast<size_t>(x);
+        if (d2 <= rc * rc && d2 < best[i]) best[i] = d2, pen[i] = static_cast<uint8_t>(k);
+      }
+  }
+  // The mode over a box of side 2 kModeMm: per pen (and the paper) a box-filtered count.
+  const int R = std::max(1, static_cast<int>(std::lround(kModeMm / cell)));
+  std::vector<float> top(n, -1.0f);
+  std::vector<uint8_t> mode(n, kNone);
+  cv::Mat ind(H, W, CV_32F), sum;
+  for (size_t k = 0; k <= n_pens; ++k) {
+    const uint8_t id = k == n_pens ? kNone : static_cast<uint8_t>(k);
+    bool any = false;
+    for (size_t i = 0; i < n; ++i) {
+      const bool in = pen[i] == id || (id == kNone && pen[i] == n_pens);
+      reinterpret_cast<float*>(ind.data)[i] = in ? 1.0f : 0.0f;
+      any |= in;
+    }
+    if (!any) continue;
+    cv::boxFilter(ind, sum, CV_32F, cv::Size(2 * R + 1, 2 * R + 1), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
+    const float* sp = reinterpret_cast<const float*>(sum.data);
+    for (size_t i = 0; i < n; ++i)
+      if (sp[i] > top[i]) top[i] = sp[i], mode[i] = id;
+  }
+  hatch::Mask mask;
+  mask.width = W;
+  mask.height = H;
+  static constexpr double kAngles[] = {45, 135, 0, 90, 22.5, 112.5, 67.5, 157.5};
+  for (size_t k = 0; k < n_pens; ++k) {
+    mask.in.assign(n, 0);
+    bool any = false;
+    for (size_t i = 0; i < n; ++i)
+      if (mode[i] == k) mask.in[i] = 1, any = true;
+    if (!any) continue;
+    hatch::LineSet set;
+    set.angle_deg = kAngles[k % (sizeof kAngles / sizeof kAngles[0])];
+    set.spacing = 1.8 / coverage;  // 0.9 pen widths at full coverage
+    set.link = std::max(10.0, 1.5 * set.spacing);
+    for (auto& line : hatch::hatch_mask(mask, set)) {
+      Polyline pl;
+      pl.pts.reserve(line.size());
+      for (const Vec2& v : line) pl.pts.push_back({x0 + v.x * cell, y0 + v.y * cell});
+      layers[k].lines.push_back(std::move(pl));
+    }
+  }
+}
+
+}  // namespace
+
+Drawing place(const Result& r, const Placement& placement, const std::vector<Pen>& pens, const PlaceOptions& o) {
   const PageTransform tf = placement.transform(r.width, r.height);
   Drawing d;
   d.page.width_mm = tf.page_w();
@@ -299,8 +379,12 @@ Drawing place(const Result& r, const Placement& placement, const std::vector<Pen
   candidates.push_back(Pen{"paper", d.page.paper, 0});
   PenMatcher match(candidates);
   std::vector<Layer> layers(pens.size());
-  auto pass = [&](const std::vector<PaintDot>& dots, int pass_index) {
-    for (const auto& p : dots) {
+  auto pass = [&](const std::vector<PaintDot>& dots, int pass_index, double share) {
+    constexpr double inv_phi = 0.6180339887498949;  // an even share: frac(i / phi) < share
+    for (size_t i = 0; i < dots.size(); ++i) {
+      const double u = static_cast<double>(i) * inv_phi;
+      if (share < 1 && u - std::floor(u) >= share) continue;
+      const PaintDot& p = dots[i];
       const size_t k = match.nearest(p.color);
       if (k == pens.size()) continue;  // the paper
       Circle c = circle(p, pens[k].color);
@@ -308,10 +392,18 @@ Drawing place(const Result& r, const Placement& placement, const std::vector<Pen
       layers[k].circles.push_back(c);
     }
   };
-  pass(r.ebauche, 0);
-  pass(r.strokes, 1);
+  if (o.hatch_ebauche && pens.size() < 255) {  // (pen ids are bytes there)
+    std::vector<std::pair<Vec2, size_t>> circles;  // centre, pen (pens.size(): the paper)
+    circles.reserve(r.ebauche.size());
+    for (const auto& p : r.ebauche) circles.push_back({tf.map(p.x, p.y), match.nearest(p.color)});
+    hatch_ebauche(circles, pens.size(), rad, tf, r.width, r.height, placement.pen_width_mm,
+                  std::clamp(o.coverage, 1e-3, 1.0), layers);
+  } else {
+    pass(r.ebauche, 0, 1);
+  }
+  pass(r.strokes, 1, o.stroke_share);
   for (size_t k = 0; k < pens.size(); ++k) {
-    if (layers[k].circles.empty()) continue;
+    if (layers[k].circles.empty() && layers[k].lines.empty()) continue;
     layers[k].pen = pens[k];
     d.layers.push_back(std::move(layers[k]));
   }
