@@ -55,8 +55,11 @@ TEST_CASE("the same page and pen give the same marks whatever the input's resolu
   const std::string img = test::example("coffee.png");
   const std::string quarter = scaled_copy(t, img, 0.25, "q.png"), four = scaled_copy(t, img, 4, "x4.png");
   const std::string opts = " -o " + t.file("r.svg") + " --time 30min";
-  // Marks: a sketch's strokes before they are linked into scribbles.
+  // Marks: a sketch's strokes before they are linked into scribbles; a tree's points (how
+  // its trails split depends on near ties among the Euclidean tree's edges: 1,370-1,650
+  // trails for 17,300-18,200 points).
   auto marks = [](const nlohmann::json& j) {
+    if (j.value("command", "") == "tree") return j["points"].get<double>();
     return (j.contains("linked") ? j["linked"]["strokes"] : j["primitives"]).get<double>();
   };
   for (const char* method : {"stipple --dots", "sketch", "pointillism", "tree"}) {
