@@ -1,7 +1,9 @@
 // stipplot pointillism: neo-impressionist pointillism with complementary colours (seed 004).
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
+#include "budget/mark_costs.hpp"
 #include "cli/commands.hpp"
 #include "cli/method_command.hpp"
 #include "cli/pen_choice.hpp"
@@ -79,13 +81,19 @@ struct Painted {
   std::vector<Pen> pens;
   bool hatch = false;
   MethodResult base;  // everything but the drawing
-  MethodResult at(double k) const {
-    MethodResult out = base;
+  // The budget's knob k: the ebauche's lines 1/k as far apart, the share k^3 of the dots,
+  // so the hour goes to the colour fields first (a dot is a pen lift for a speck of ink).
+  static double stroke_share(double k) { return k * k * k; }
+  Drawing drawing(double coverage, double share) const {
     pointillism::PlaceOptions o;
     o.hatch_ebauche = hatch;
-    o.coverage = hatch ? k : 1;
-    o.stroke_share = hatch ? k * k * k : 1;
-    out.drawing = pointillism::place(*res, placement, pens, o);
+    o.coverage = hatch ? coverage : 1;
+    o.stroke_share = hatch ? share : 1;
+    return pointillism::place(*res, placement, pens, o);
+  }
+  MethodResult at(double k) const {
+    MethodResult out = base;
+    out.drawing = drawing(k, stroke_share(k));
     out.counts += " in " + layers_phrase(out.drawing.layers.size());
     if (hatch) out.summary["ebauche_coverage"] = k;
     return out;
@@ -205,7 +213,15 @@ void register_pointillism(CLI::App& app) {
               // A hatched ebauche is thinned by spacing its lines, not by leaving out whole ones.
               if (hatched(*args)) {
                 auto painted = std::make_shared<Painted>(paint_once(*args, in));
-                return scaled_density(in, [painted](double k) { return painted->at(k); });
+                // The ebauche's share of the full drawing's time predicts the rest: k of it,
+                // and k^3 of the dots'.
+                const budget::MarkCosts& c = in.costs;
+                const double all = budget::quick_estimate_seconds(painted->drawing(1, 1), c.motion(), c.plan_options());
+                const double eb = budget::quick_estimate_seconds(painted->drawing(1, 0), c.motion(), c.plan_options());
+                const double w = all > 0 ? std::clamp(eb / all, 0.0, 1.0) : 1;
+                return scaled_density(
+                    in, [painted](double k) { return painted->at(k); },
+                    [w](double k) { return w * k + (1 - w) * Painted::stroke_share(k); });
               }
               return thinned_density(in, [args, &in] { return paint_once(*args, in).at(1); });
             });

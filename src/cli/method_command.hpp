@@ -93,7 +93,10 @@ MethodDraft thinned_density(const MethodInput& in, std::function<MethodResult()>
 // drawing's ink and time (pointillism's hatched ebauche: its lines 1/k as far apart, and
 // the share k of its dots). The full run's plot time scaled by k predicts the rest. Costs
 // one full run and its quick estimate, then one draw(k) a density the search tries.
-MethodDraft scaled_density(const MethodInput& in, std::function<MethodResult(double k)> draw);
+// `time_share(k)`, if given, is the share of the full run's time the drawing at k takes
+// (default k).
+MethodDraft scaled_density(const MethodInput& in, std::function<MethodResult(double k)> draw,
+                           std::function<double(double k)> time_share = {});
 
 // The drawing with the share k of every layer's marks of each kind (see thinned_density).
 Drawing thin_marks(const Drawing& d, double k);

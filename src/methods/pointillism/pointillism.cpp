@@ -276,7 +276,7 @@ namespace {
 // cells within `kModeMm` take, so neighbouring circles that dither between two pens make
 // one region, not a speckle a pen lift each. Each pen's region is hatched at its own
 // angle. O(circles r^2 + cells x pens).
-constexpr double kModeMm = 2.0;
+constexpr double kModeMm = 4.0;
 
 void hatch_ebauche(const std::vector<std::pair<Vec2, size_t>>& circles, size_t n_pens, double radius_mm,
                    const PageTransform& tf, int w, int h, double pen_mm, double coverage, std::vector<Layer>& layers) {
