@@ -47,12 +47,9 @@ nlohmann::json method_schemas() {
 nlohmann::json profile_list() {
   nlohmann::json out = nlohmann::json::array();
   for (const DeviceProfile& p : list_profiles()) {
-    // The studio writes and previews G-code and HPGL jobs only: EBB (AxiDraw) machines are
-    // plotted with `stipplot plot`, not offered here yet.
-    if (p.protocol == Protocol::ebb) continue;
     out.push_back({{"name", p.name},
                    {"description", p.description},
-                   {"dialect", p.protocol == Protocol::grbl ? "gcode" : "hpgl"}});
+                   {"dialect", p.protocol == Protocol::grbl ? "gcode" : p.protocol == Protocol::ebb ? "ebb" : "hpgl"}});
   }
   return out;
 }

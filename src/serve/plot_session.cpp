@@ -5,6 +5,7 @@
 
 #include "drivers/device/pen_rule.hpp"
 #include "drivers/device/profile.hpp"
+#include "drivers/job/ebb_reader.hpp"
 #include "drivers/job/gcode_reader.hpp"
 #include "drivers/job/hpgl_reader.hpp"
 #include "serve/plot_trace.hpp"
@@ -95,8 +96,12 @@ void PlotSession::load_trace() {
     std::ostringstream ss;
     ss << in.rdbuf();
     const DeviceProfile dev = find_profile(req_.profile);
-    const bool hpgl = fs::path(req_.job).extension() == ".hpgl";
-    const io::Job job = hpgl ? io::parse_hpgl_job(ss.str()) : io::parse_gcode_job(ss.str(), gcode_pen_rule(dev));
+    const std::string ext = fs::path(req_.job).extension().string();
+    const bool hpgl = ext == ".hpgl";
+    // EBB jobs read back in machine mm, as G-code's are.
+    const io::Job job = hpgl ? io::parse_hpgl_job(ss.str())
+                        : ext == ".ebb" ? io::parse_ebb_job(ss.str(), dev.ebb.steps_per_mm)
+                                        : io::parse_gcode_job(ss.str(), gcode_pen_rule(dev));
     json summary;
     {
       std::lock_guard<std::mutex> lock(m_);

@@ -113,6 +113,12 @@ struct Studio::Impl {
     throw RequestError(400, "no " + dialect + " profile to write that file for");
   }
 
+  // A job file's extension for a profile: what `stipplot METHOD -o` writes for it.
+  std::string job_extension(const std::string& profile) const {
+    const std::string d = dialect_of_profile(profile);
+    return d == "hpgl" ? ".hpgl" : d == "ebb" ? ".ebb" : ".gcode";
+  }
+
   std::string dialect_of_profile(const std::string& name) const {
     for (const auto& p : cfg.profiles)
       if (p["name"] == name) return p["dialect"];
@@ -182,7 +188,7 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
       out["pen_down_mm"] = summary["plan"]["total"].value("pen_down_mm", 0.0);
     }
   } else {
-    const std::string job = stem + (dialect_of_profile(profile) == "hpgl" ? ".hpgl" : ".gcode");
+    const std::string job = stem + job_extension(profile);
     std::vector<std::string> plan = {cfg.executable, "export", stem + ".svg", "-o", job, "--profile", profile, "--json"};
     const auto plan_opts = option_args(s, cfg.methods, {"Planning", "Paths"});
     plan.insert(plan.end(), plan_opts.begin(), plan_opts.end());
@@ -229,7 +235,7 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
   std::lock_guard<std::mutex> lock(m);
   // Keep the files of the last few previews: the page may still be loading one.
   if (gen > 6)
-    for (const char* e : {".svg", ".png", ".gcode", ".hpgl"}) fs::remove(path_in_work("previews/p" + std::to_string(gen - 6) + e));
+    for (const char* e : {".svg", ".png", ".gcode", ".hpgl", ".ebb"}) fs::remove(path_in_work("previews/p" + std::to_string(gen - 6) + e));
   if (gen == preview_gen) last_preview = out;
   return out;
 }
@@ -385,7 +391,7 @@ void Studio::Impl::file_routes() {
     ss << in.rdbuf();
     res.set_content(ss.str(), content_type_of(*p));
   });
-  server.Get(R"(/api/download/(svg|gcode|hpgl))", [this](const httplib::Request& req, httplib::Response& res) {
+  server.Get(R"(/api/download/(svg|gcode|hpgl|ebb))", [this](const httplib::Request& req, httplib::Response& res) {
     const std::string kind = req.matches[1].str();
     Settings s;
     std::string input;
@@ -458,8 +464,10 @@ void Studio::Impl::plot_routes() {
     } else {
       if (!photo || !settings) throw RequestError(409, "upload a photo and make a preview first");
       pr.profile = profile_for(*settings, "");
-      const bool hpgl = dialect_of_profile(pr.profile) == "hpgl";
-      pr.job = "plot-" + std::to_string(++plot_count) + (hpgl ? ".hpgl" : ".gcode");
+      if (port == "sim" && dialect_of_profile(pr.profile) == "ebb")
+        throw RequestError(400, "the simulated plotter runs G-code and HPGL: plot " + pr.profile +
+                                    " (an EiBotBoard) on its port, or choose a grbl or HPGL profile for a dry run");
+      pr.job = "plot-" + std::to_string(++plot_count) + job_extension(pr.profile);
       pr.make_job = method_argv(*settings, photo->name, pr.job, pr.profile);
       pr.make_job.push_back("--json");  // its page and layout place the progress over the preview
     }

@@ -334,3 +334,25 @@ TEST_CASE("serve http: a plot an earlier server left unfinished is offered for r
   CHECK(json::parse(cl.Get("/api/state")->body)["plots"]["sim"]["job"] == "plot-2.gcode");
   REQUIRE(cl.Post("/api/plot/abort", R"({"port":"sim"})", "application/json")->status == 200);
 }
+
+TEST_CASE("serve http: an AxiDraw (EBB) profile previews, downloads its .ebb job, and is not sent to the G-code simulator", "[serve]") {
+  test::TempDir dir;
+  StudioConfig c = config(dir);
+  c.profiles.push_back({{"name", "axidraw-v3"}, {"description", ""}, {"dialect", "ebb"}});
+  RunningStudio s(std::move(c));
+  auto cl = s.client();
+  REQUIRE(cl.Post("/api/photo", read_all(std::string(STIPPLOT_SHARED_DIR) + "/images/coffee.png"), "image/png")->status == 200);
+  auto r = cl.Post("/api/preview", R"({"method":"stipple","options":{"-b":"40px","--profile":"axidraw-v3"}})", "application/json");
+  INFO(r->body);
+  REQUIRE(r->status == 200);
+  const json p = json::parse(r->body);
+  CHECK(p["plot_s"].get<double>() > 0);  // the .ebb job's own time
+  CHECK(p["command"].get<std::string>().find("--profile=axidraw-v3") != std::string::npos);
+  r = cl.Get("/api/download/ebb");
+  REQUIRE(r->status == 200);
+  CHECK(r->body.rfind("EM,", 0) == 0);  // the EBB's own commands, motors on first
+  CHECK(r->body.find("\nSM,") != std::string::npos);
+  r = cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json");
+  CHECK(r->status == 400);
+  CHECK(r->body.find("EiBotBoard") != std::string::npos);
+}

@@ -66,7 +66,8 @@ function makeControl(opt) {
     input.addEventListener('change', () => changed(false));
   } else if (opt.name === '--profile') {
     input = document.createElement('select');
-    for (const p of config.profiles) input.add(new Option(`${p.name} (${p.dialect === 'hpgl' ? 'HPGL' : 'G-code'})`, p.name));
+    const kinds = { hpgl: 'HPGL', ebb: 'EBB, AxiDraw', gcode: 'G-code' };
+    for (const p of config.profiles) input.add(new Option(`${p.name} (${kinds[p.dialect] || p.dialect})`, p.name));
     input.value = opt.default || config.default_profile;
     row.appendChild(input);
     input.addEventListener('change', () => changed(false));
@@ -206,7 +207,7 @@ function showPreview(p, ms) {
       $('draft-badge').style.visibility = p.draft ? 'visible' : 'hidden';
       $('cli').textContent = p.command;
       $('busy').textContent = p.draft ? 'reduced photo — full size when you let go' : '';
-      for (const k of ['svg', 'gcode', 'hpgl']) $('dl-' + k).classList.toggle('off', !!p.draft);
+      for (const k of ['svg', 'gcode', 'hpgl', 'ebb']) $('dl-' + k).classList.toggle('off', !!p.draft);
       $('plot-start').disabled = !!p.draft || plotBusy();
       document.body.dataset.previewGen = p.gen;
       document.body.dataset.previewDraft = p.draft ? '1' : '0';
