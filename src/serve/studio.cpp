@@ -192,7 +192,8 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
     std::vector<std::string> plan = {cfg.executable, "export", stem + ".svg", "-o", job, "--profile", profile, "--json"};
     const auto plan_opts = option_args(s, cfg.methods, {"Planning", "Paths"});
     plan.insert(plan.end(), plan_opts.begin(), plan_opts.end());
-    std::vector<std::string> eval = {cfg.executable, "eval", input, stem + ".png", "--view-only", "--json"};
+    // The page shows the SSIM alone: no CIEDE2000 a pixel (most of the measure's time).
+    std::vector<std::string> eval = {cfg.executable, "eval", input, stem + ".png", "--view-only", "--no-colour", "--json"};
     // The page the method drew on (the profile's sheet unless --page says otherwise).
     if (summary.contains("page_mm") && summary["page_mm"].size() == 2)
       eval.push_back("--page=" + std::to_string(summary["page_mm"][0].get<double>()) + "x" +

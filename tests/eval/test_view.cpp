@@ -174,6 +174,16 @@ TEST_CASE("a method's --measure and eval of its SVG give the same viewing-distan
   r = test::run_cli("eval " + horse + " " + t.file("h.svg") + " --view-sigma 0.5mm --json");
   REQUIRE(r.exit_code == 0);
   CHECK(nlohmann::json::parse(r.out)["ssim_view"].get<double>() < e["ssim_view"].get<double>());
+  // The studio's figure alone: the same SSIM, no colour (its CIEDE2000 a pixel is most of the time).
+  r = test::run_cli("eval " + horse + " " + t.file("h.svg") + " --view-only --no-colour --json");
+  REQUIRE(r.exit_code == 0);
+  const auto nc = nlohmann::json::parse(r.out);
+  CHECK(nc["ssim_view"].get<double>() == e["ssim_view"].get<double>());
+  CHECK_FALSE(nc.contains("delta_e_view"));
+  CHECK(e.contains("delta_e_view"));
+  r = test::run_cli("eval " + horse + " " + t.file("h.svg") + " --no-colour --json");
+  CHECK(r.exit_code != 0);
+  CHECK(r.err.find("--no-colour goes with --view-only") != std::string::npos);
 }
 
 TEST_CASE("the measure is the same bit for bit on one thread and on several", "[eval][view][threads]") {
