@@ -54,6 +54,8 @@ draw tree-horse-paper tree "$img/horse.png" --landscape --law linear   # the pap
 detail tree-horse-paper
 draw sketch-starry sketch "$img/starry_night.jpg" --landscape
 draw pointillism-starry pointillism "$img/starry_night.jpg" --landscape
+draw pointillism-coffee-pens pointillism "$img/coffee.png" --landscape --plot-pens   # fineliners: colour fields hatched, dots over them
+detail pointillism-coffee-pens
 draw hatch-rocket hatch "$img/rocket.jpg"
 # What the simulated grbl plotter drew (its own record of pen-down moves), from the same
 # G-code a real plotter would get.
