@@ -130,6 +130,9 @@ ResumePlan plan_reset_resume(const Job& job, const JournalState& journal, const 
     }
   }
 
+  // Lines that neither move nor leave the pen down (its lift, a pause the journal counted
+  // as done) ran if they were acknowledged: a pause is not asked again.
+  while (!split && from > first_sm && static_cast<long>(from) <= last && !L[from].motion && !L[from].pen_down) ++from;
   ResumePlan rp;
   if (from <= first_sm) {  // nothing drawn yet that counts: the job from its start (EM zeroes the board)
     rp.next = 0;
@@ -186,7 +189,7 @@ ResumePlan plan_reset_resume(const Job& job, const JournalState& journal, const 
   rp.redraw = redraw;
   char b[200];
   if (proved)
-    std::snprintf(b, sizeof b, "from the last point proved drawn before the reset (QS on line %zu%s)", from + 1,
+    std::snprintf(b, sizeof b, "from the last point proved drawn before the reset (QS on line %ld%s)", p.line + 1,
                   split ? ", its SM split there" : "");
   else
     std::snprintf(b, sizeof b, "from the first line the board may not have run (its FIFO of %d commands was lost; %s)", fifo,

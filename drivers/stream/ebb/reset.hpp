@@ -49,7 +49,8 @@ size_t first_unsure(const Job& job, long last, int fifo);
 
 // The plan for a reset board (its QS read 0,0 and matched nothing): from the journal's
 // last proof when it is at or after first_unsure(last acknowledged), its SM split there
-// when the proof lies inside a pen-down move; else from first_unsure. The preamble: the
+// when the proof lies inside a pen-down move; else from first_unsure; past acknowledged
+// lines that neither move nor leave the pen down (a pause counted as done). The preamble: the
 // job's own lines before its first SM (EM, SC servo settings, pen up), the pen up, an
 // accelerated travel from home to the resume point (the profile's pen-up speed and
 // acceleration, cut into SMs as the writer cuts them), the job's own pen-down when the

@@ -364,9 +364,9 @@ class Streamer::JobRun {
     session_.proven(p);
   }
 
-  // Waits for the board to run what it queued (the job's end, a pause), proving where
-  // the carriage is as it goes: the FIFO is no longer kept full, so a proof says more
-  // than the FIFO's bound does.
+  // Waits for the board to run what it queued (the job's end, a pause, a hold), proving
+  // where the carriage is as it goes and once it stands: the FIFO is no longer kept full,
+  // so a proof says more than the FIFO's bound does (at a pause, exactly where it stopped).
   void settle() {
     const auto end = clock::now() + millis(queued_seconds()) + s_.o_.watchdog;
     while (!s_.idle()) {
@@ -378,6 +378,7 @@ class Streamer::JobRun {
       }
       std::this_thread::sleep_for(Millis(20));
     }
+    if (moved_ && spm_ > 0 && s_.o_.proof_interval.count() > 0) prove(s_.position(), sent_);
   }
 
   void drain() {
@@ -404,7 +405,7 @@ class Streamer::JobRun {
   // The operator's pause (Ctrl-C): the queue runs out, the pen goes up; then resume or abort.
   bool hold() {
     drain();
-    s_.wait_idle(queued_seconds());
+    settle();
     const bool was_down = !s_.pen_up();
     if (was_down && !pen_up_.empty()) s_.command(pen_up_);
     while (!controls_->resume.load() && !controls_->abort.load()) {
@@ -424,7 +425,7 @@ class Streamer::JobRun {
       if (controls_ && controls_->abort.exchange(false)) {
         // Stop sending; what the board queued runs out (under a second), the pen goes up.
         drain();
-        s_.wait_idle(queued_seconds());
+        settle();
         if (!pen_up_.empty()) s_.command(pen_up_);
         return false;
       }
