@@ -289,6 +289,10 @@ void EbbBoard::open_pty() {
   dropped_ = false;
 }
 
+void EbbBoard::reboot() {
+  if (::write(to_fw_, "RB\r", 3) != 3) throw std::runtime_error("cannot write RB to ebb_sim");
+}
+
 std::string EbbBoard::reconnect() {
   open_pty();
   return port_;

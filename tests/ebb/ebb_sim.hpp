@@ -100,6 +100,9 @@ class EbbBoard {
     reset_ = true;
     drop_after_ = n;
   }
+  // The board is reset while no host talks to it (between two plots): its own RB, as
+  // above. Only while no client sends (its bytes could split the command).
+  void reboot();
   bool dropped() const { return dropped_; }
   size_t commands() const { return commands_; }
   std::string reconnect();  // a new pty to the same firmware

@@ -130,6 +130,19 @@ TEST_CASE("EBB reset: the resume plan splits the proven move and travels there f
     CHECK(rp.next == 4);
     CHECK(rp.why.find("does not lie on line 6") != std::string::npos);
   }
+  SECTION("a proof at a pause counted as done: from the line after it, nothing drawn again") {
+    const io::Job paused = io::parse_ebb_job(
+        "EM,1,1\nSP,1,130\nSM,100,800,800\nSP,0,146\nSM,100,800,-800\nSP,1,130\n# pause: Change pen: pen 2\n"
+        "SP,0,146\nSM,100,800,800\nSP,1,130\n",
+        80);
+    j.last_acked = 6;       // the pause, counted as done
+    j.proven = {4, 10, 10, 0};  // where the board stood at it: the end of line 5
+    const io::ResumePlan rp = io::ebb::plan_reset_resume(paused, j, prof, 32);
+    CHECK(rp.next == 7);
+    CHECK(travel_end(rp.preamble) == st(10, 10));
+    CHECK(rp.preamble.back().rfind("SM,", 0) == 0);  // no pen-down: the pen was up there
+    CHECK(rp.redraw == 0);
+  }
   SECTION("a FIFO reaching back before the first move: the job from its start") {
     const io::ResumePlan rp = io::ebb::plan_reset_resume(job, j, prof, 32);
     CHECK(rp.next == 0);
