@@ -443,11 +443,12 @@ class Streamer::JobRun {
           answered_ = ++sent_;
           continue;
         }
-        if (proving() && in_flight_.size() + 1 < s_.o_.in_flight) {
+        if (proving()) {  // takes the free place in the window; the command waits for the next
           s_.t_.write("QS\r");
           in_flight_.push_back(kQs);
           qs_after_.push_back(sent_);
           next_proof_ = clock::now() + s_.o_.proof_interval;
+          continue;
         }
         s_.t_.write(session_.text(sent_) + "\r");
         in_flight_.push_back(sent_++);
