@@ -10,7 +10,8 @@
 //  - While streaming, a QS every proof_interval (in the in-flight window: it is answered
 //    after the commands before it are queued) gives the carriage's position, on the path
 //    of an SM already acknowledged: the first such line since the board surely ran the
-//    ones before (ebb/reset.hpp) is journalled as a proof (StreamSession::proven).
+//    ones before (ebb/reset.hpp) is journalled as a proof (StreamSession::proven). One
+//    more once the board stands (the job's end, a pause, a hold): the point it stopped at.
 //  - resume(): after a dropped link the board still holds its position (QS) and pen (QP):
 //    the job goes on after the line the board's state matches, found among the lines the
 //    journal had not heard back about. A board that was reset (power cycle, reboot) stands
