@@ -64,4 +64,12 @@ void slice_blocks(const std::vector<MotionBlock>& blocks, const EbbGeometry& g, 
   }
 }
 
+void polyline_moves(const std::vector<Vec2>& pts, double vmax, const MotionParams& m, const EbbGeometry& g, int slice_ms,
+                    MotorSteps& at, int64_t& clock_ms, std::vector<MotionBlock>& blocks, std::vector<EbbMove>& out) {
+  if (pts.size() < 2) return;
+  blocks.clear();
+  polyline_seconds(pts, vmax, m, &blocks);
+  slice_blocks(blocks, g, m.accel_mm_s2, slice_ms, at, clock_ms, out);
+}
+
 }  // namespace stipplot::motion

@@ -45,6 +45,12 @@ bool ebb_move_ok(const EbbMove& m);
 void slice_blocks(const std::vector<MotionBlock>& blocks, const EbbGeometry& g, double accel_mm_s2, int slice_ms, MotorSteps& at,
                   int64_t& clock_ms, std::vector<EbbMove>& out);
 
+// A polyline from rest to rest as SM moves: planned by polyline_seconds at cruise speed
+// vmax with the machine's motion, then cut by slice_blocks (the writer's strokes and
+// travels, and a resume's travel from home). `blocks` is scratch space. O(points + moves).
+void polyline_moves(const std::vector<Vec2>& pts, double vmax, const MotionParams& m, const EbbGeometry& g, int slice_ms,
+                    MotorSteps& at, int64_t& clock_ms, std::vector<MotionBlock>& blocks, std::vector<EbbMove>& out);
+
 // Distance along a trapezoidal block at time t after its start (0 <= t <= duration),
 // with acceleration a (as polyline_seconds profiled it). O(1).
 double block_distance(const MotionBlock& b, double a, double t);

@@ -52,10 +52,8 @@ class EbbJobWriter {
   // The polyline from rest to rest, timed by the planner's model and cut into SMs.
   void move(const std::vector<Vec2>& pts, double vmax) {
     if (pts.size() < 2) return;
-    blocks_.clear();
-    motion::polyline_seconds(pts, vmax, p_.motion, &blocks_);
     moves_.clear();
-    motion::slice_blocks(blocks_, geo_, p_.motion.accel_mm_s2, p_.ebb.time_slice_ms, at_, clock_ms_, moves_);
+    motion::polyline_moves(pts, vmax, p_.motion, geo_, p_.ebb.time_slice_ms, at_, clock_ms_, blocks_, moves_);
     char buf[80];
     for (const motion::EbbMove& m : moves_) {
       std::snprintf(buf, sizeof buf, "SM,%lld,%lld,%lld", static_cast<long long>(m.ms), static_cast<long long>(m.s1),

@@ -504,7 +504,8 @@ io::StreamResult run_hpgl(const PlotArgs& A, const PlotJob& pj, io::Transport& p
   return st.stream(pj.job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }
 
-// EBB: connect (V), on --resume go on from the board's own position and pen, stream.
+// EBB: connect (V), on --resume go on from the board's own position and pen (or, on a
+// board that was reset, from the journal's last proof with the carriage at home), stream.
 io::StreamResult run_ebb(const PlotArgs& A, const PlotJob& pj, io::Transport& port, io::Journal& journal,
                          PlotProgress& progress, nlohmann::json& summary) {
   io::ebb::Options o = io::ebb::options_for(pj.device);
@@ -515,9 +516,10 @@ io::StreamResult run_ebb(const PlotArgs& A, const PlotJob& pj, io::Transport& po
   summary["firmware"] = st.firmware().text;
   io::ResumePlan rp{pj.start(), {}, {}, 0, {}};
   if (pj.resuming) {
-    rp = st.resume(pj.job, pj.resume_state, pj.device.ebb.steps_per_mm);
+    rp = st.resume(pj.job, pj.resume_state, pj.device);
     if (!rp.note.empty()) A.log(rp.note);
-    summary["resume"] = {{"from_line", rp.next + 1}, {"redraw_mm", 0.0}, {"why", rp.why}};
+    summary["resume"] = {{"from_line", rp.next + 1}, {"redraw_mm", std::round(rp.redraw * 100) / 100}, {"why", rp.why}};
+    if (!rp.note.empty()) summary["resume"]["note"] = rp.note;
   }
   return st.stream(pj.job, rp.next, rp.preamble, &journal, std::ref(progress), &progress.controls);
 }

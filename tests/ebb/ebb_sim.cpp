@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -16,6 +17,7 @@
 #include <regex>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_map>
 
 namespace ebbtest {
 
@@ -107,7 +109,9 @@ SimLog read_log(const std::string& path, double spm) {
       }
       down = d;
     } else if (k == "START" || k == "RESET") {
+      if (down && cur.size() > 1) out.marks.push_back(cur);  // drawn up to the reset
       down = false;
+      out.m1 = out.m2 = 0;
     }
   }
   return out;
@@ -207,6 +211,42 @@ Comparison compare_marks(const std::vector<Path>& plan, const std::vector<Path>&
   return c;
 }
 
+namespace {
+// Every vertex of the paths and a point at most `step` mm apart along them.
+template <class F>
+void each_point(const std::vector<Path>& paths, double step, F f) {
+  for (const Path& p : paths) {
+    if (!p.empty()) f(p[0]);
+    for (size_t i = 1; i < p.size(); ++i) {
+      const double len = std::hypot(p[i].x - p[i - 1].x, p[i].y - p[i - 1].y);
+      const int n = std::max(1, static_cast<int>(std::ceil(len / step)));
+      for (int k = 1; k <= n; ++k)
+        f(Pt{p[i - 1].x + (p[i].x - p[i - 1].x) * k / n, p[i - 1].y + (p[i].y - p[i - 1].y) * k / n});
+    }
+  }
+}
+}  // namespace
+
+Gap farthest(const std::vector<Path>& a, const std::vector<Path>& b, double step, double cap) {
+  auto key = [cap](double x, double y) {
+    return (static_cast<int64_t>(std::floor(x / cap)) << 32) ^ (static_cast<int64_t>(std::floor(y / cap)) & 0xffffffff);
+  };
+  std::unordered_map<int64_t, std::vector<Pt>> grid;
+  each_point(b, step, [&](Pt p) { grid[key(p.x, p.y)].push_back(p); });
+  Gap g;
+  each_point(a, step, [&](Pt p) {
+    double d = cap;
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy) {
+        const auto it = grid.find(key(p.x + dx * cap, p.y + dy * cap));
+        if (it == grid.end()) continue;
+        for (const Pt& q : it->second) d = std::min(d, std::hypot(p.x - q.x, p.y - q.y));
+      }
+    if (d > g.worst) g = {d, p};
+  });
+  return g;
+}
+
 EbbBoard::EbbBoard(const std::string& log, bool realtime, const std::string& flash) {
   const std::string exe = ensure_ebb_sim();
   std::vector<const char*> argv{exe.c_str(), "-l", log.c_str()};
@@ -249,6 +289,10 @@ void EbbBoard::open_pty() {
   dropped_ = false;
 }
 
+void EbbBoard::reboot() {
+  if (::write(to_fw_, "RB\r", 3) != 3) throw std::runtime_error("cannot write RB to ebb_sim");
+}
+
 std::string EbbBoard::reconnect() {
   open_pty();
   return port_;
@@ -283,6 +327,8 @@ void EbbBoard::relay() {
     }
     [[maybe_unused]] ssize_t w = ::write(to_fw_, buf, k);
     if (drop_after_ && commands_ >= drop_after_ && !dropped_) {
+      // The board reboots there (reset_after_commands): the firmware's own RB.
+      if (reset_.exchange(false)) [[maybe_unused]] ssize_t r = ::write(to_fw_, "RB\r", 3);
       // The cable is pulled: the rest is lost and the client's pty hangs up. Said before the
       // hang-up: the client exits on it, and its test asks dropped() at once.
       dropped_ = true;

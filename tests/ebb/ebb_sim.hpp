@@ -29,6 +29,8 @@ std::string ensure_ebb_sim();
 // What the firmware did, from its event log (machine mm: x = (m1 + m2) / 2, y = (m1 - m2) / 2
 // over steps_per_mm): each pen-down interval's path (where it went down, then the position
 // after every step), the times of the first and last step, and the final motor position.
+// A reset (RB) ends a pen-down interval (the mark drawn up to it is kept) and the position
+// restarts at 0, as the rebooted firmware's counters do.
 struct SimLog {
   std::vector<Path> marks;
   double first_step_s = -1, last_step_s = -1, first_command_s = -1;
@@ -62,6 +64,16 @@ struct Comparison {
 };
 Comparison compare_marks(const std::vector<Path>& plan, const std::vector<Path>& drawn, double tol);
 
+// Marks drawn in pieces (a plot resumed after a reset splits a stroke and may draw a
+// little twice), judged as ink: the largest distance from a point of `a` (its vertices
+// and a point every `step` mm along it) to the nearest such point of `b`, capped at `cap`
+// (`where` is that point of `a`). Grid-hashed: O(points).
+struct Gap {
+  double worst = 0;
+  Pt where;
+};
+Gap farthest(const std::vector<Path>& a, const std::vector<Path>& b, double step, double cap);
+
 // ebb_sim behind a pty: a relay thread copies bytes between the pty a client opens and the
 // firmware's stdin/stdout. The firmware lives until finish() (its input closed, it exits
 // once idle).
@@ -78,6 +90,19 @@ class EbbBoard {
   // The link drops right after the client's n-th command ('\r') reached the firmware:
   // later bytes are lost, the client's pty hangs up; the firmware runs on.
   void drop_after_commands(size_t n) { drop_after_ = n; }
+  // The board reboots right after the client's n-th command reached the firmware: the
+  // firmware gets the board's own `RB` (ebb_sim re-executes itself: step counters at 0,
+  // FIFO and RAM gone, the pen up, time monotonic, the log appended) and the link drops
+  // as above, as a real board's USB port goes away when it resets. The sim's carriage is
+  // its counters, so the carriage is back home after it: what `plot --resume` takes a
+  // reset board to be (on a real one the operator brings it home by hand).
+  void reset_after_commands(size_t n) {
+    reset_ = true;
+    drop_after_ = n;
+  }
+  // The board is reset while no host talks to it (between two plots): its own RB, as
+  // above. Only while no client sends (its bytes could split the command).
+  void reboot();
   bool dropped() const { return dropped_; }
   size_t commands() const { return commands_; }
   std::string reconnect();  // a new pty to the same firmware
@@ -90,7 +115,7 @@ class EbbBoard {
   int to_fw_ = -1, from_fw_ = -1, master_ = -1;
   std::string port_;
   std::thread thread_;
-  std::atomic<bool> stop_{false}, dropped_{false};
+  std::atomic<bool> stop_{false}, dropped_{false}, reset_{false};
   std::atomic<size_t> drop_after_{0}, commands_{0};
   std::mutex mu_;  // master_ and port_ between the relay and reconnect()
 };

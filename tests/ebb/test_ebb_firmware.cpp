@@ -18,7 +18,9 @@
 
 #include "drivers/job/ebb_reader.hpp"
 #include "drivers/job/timed_job.hpp"
+#include "drivers/stream/ebb/reset.hpp"
 #include "drivers/stream/ebb/streamer.hpp"
+#include "drivers/stream/journal.hpp"
 #include "drivers/transport/posix_serial.hpp"
 #include "ebb/ebb_sim.hpp"
 #include "test_util.hpp"
@@ -272,6 +274,161 @@ TEST_CASE("The host killed (SIGKILL) mid-plot, then plot --resume on the powered
   CHECK(ebb_last_json(r.out)["completed"].get<bool>());
   board.finish();
   check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));
+}
+
+TEST_CASE("A board reset mid-plot (30 and 70 %), then plot --resume from home: every mark drawn", "[ebb]") {
+  test::TempDir t;
+  const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));
+  const auto planned = ebbtest::job_marks(e.job, 80);
+  const size_t planned_steps = ebbtest::job_down_steps(e.job);
+  // A stroke's worth: the longest mark's pen-down motor steps (|motor 1| + |motor 2|).
+  size_t longest = 0;
+  for (const auto& m : planned) {
+    size_t n = 0;
+    for (size_t i = 1; i < m.size(); ++i)
+      n += static_cast<size_t>(std::llround(80 * std::fabs(m[i].x - m[i - 1].x + m[i].y - m[i - 1].y)) +
+                               std::llround(80 * std::fabs(m[i].x - m[i - 1].x - m[i].y + m[i - 1].y)));
+    longest = std::max(longest, n);
+  }
+  const stipplot::io::Job parsed = stipplot::io::parse_ebb_job(test::read_file(e.job), 80);
+  const size_t lines = static_cast<size_t>(test::count_lines(test::read_file(e.job)));
+  for (double share : {0.3, 0.7}) {
+    DYNAMIC_SECTION("reset at " << share * 100 << " %") {
+      const std::string log_path = t.file("fw-" + std::to_string(static_cast<int>(share * 100)) + ".log");
+      ebbtest::EbbBoard board(log_path);
+      // connect() sends V, CU,10,0 and CU,4: the job's lines follow (with a QS now and then).
+      // The board reboots there (RB): counters at 0, FIFO lost, the link gone. In the sim
+      // the carriage is the counters, so it is back home: the premise of the resume below
+      // (on a real board the carriage stays where it stopped and is brought home by hand).
+      board.reset_after_commands(3 + static_cast<size_t>(share * static_cast<double>(lines)));
+      auto first = test::run_cli("plot " + e.job + " --profile axidraw-v3 --port " + board.port() + " --pen-change continue -q");
+      CHECK(first.exit_code != 0);
+      REQUIRE(board.dropped());
+      // What the first run proved lies on the path of the line it names.
+      const stipplot::io::JournalState js = stipplot::io::Journal::load(e.job + ".journal");
+      CHECK(js.proven.line >= 0);
+      if (js.proven.line >= 0)
+        CHECK(stipplot::io::ebb::on_sm_path(parsed, static_cast<size_t>(js.proven.line),
+                                            stipplot::io::ebb_motor_steps(js.proven.x, js.proven.y, 80), 80));
+      const std::string port = board.reconnect();
+      auto second = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json");
+      INFO(first.err << second.err);
+      REQUIRE(second.exit_code == 0);
+      const auto s = ebb_last_json(second.out);
+      CHECK(s["completed"].get<bool>());
+      CHECK(second.err.find("the board was reset") != std::string::npos);
+      CHECK(second.err.find("the carriage is taken to be at home") != std::string::npos);
+      CHECK(s["resume"]["note"].get<std::string>().find("taken to be at home") != std::string::npos);
+      board.finish();
+      const ebbtest::SimLog log = ebbtest::read_log(log_path, 80);
+      // Nothing lost: every point of the job's pen-down paths has ink within two motor
+      // steps, from one run or the other; and no ink off them.
+      const auto lost = ebbtest::farthest(planned, log.marks, 0.01, 0.5);
+      INFO("farthest from ink: " << lost.worst << " mm at " << lost.where.x << "," << lost.where.y);
+      CHECK(lost.worst <= 2 * kStep);
+      const auto stray = ebbtest::farthest(log.marks, planned, 0.01, 0.5);
+      INFO("stray ink: " << stray.worst << " mm at " << stray.where.x << "," << stray.where.y);
+      CHECK(stray.worst <= 2 * kStep);
+      // Drawn twice: what the lost FIFO held, at most a stroke's worth, within what the
+      // resume said it might redraw (a mm of path is at most 160 motor steps).
+      REQUIRE(log.down_steps >= planned_steps);
+      const size_t twice = log.down_steps - planned_steps;
+      const double redraw_mm = s["resume"]["redraw_mm"].get<double>();
+      CHECK(twice <= longest);
+      CHECK(static_cast<double>(twice) <= 160 * redraw_mm + 2);
+      CHECK(log.m1 == 0);  // back home, to the step
+      CHECK(log.m2 == 0);
+      WARN("reset at " << share * 100 << " %: resumed at line " << s["resume"]["from_line"] << " of " << lines << " ("
+                       << s["resume"]["why"].get<std::string>() << "); pen-down steps " << log.down_steps << " (job "
+                       << planned_steps << "): " << twice << " drawn twice (" << twice / 160.0 << "-" << twice / 113.1
+                       << " mm; the longest stroke " << longest << " steps; redraw bound " << redraw_mm
+                       << " mm); farthest job point from ink " << lost.worst << " mm, stray ink " << stray.worst << " mm");
+    }
+  }
+}
+
+TEST_CASE("A board reset at a pen-change pause, then plot --resume: from the QS proof, each mark once", "[ebb]") {
+  test::TempDir t;
+  const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));
+  ebbtest::EbbBoard board(t.file("fw.log"));
+  // Stopped at the pen change (counted as done): the board ran out its FIFO and the host
+  // proved with a QS where it stands.
+  auto first = test::run_cli("plot " + e.job + " --profile axidraw-v3 --port " + board.port() + " --pen-change stop -q");
+  CHECK(first.exit_code != 0);
+  // The board switched off and on during the pen change: counters at 0 and, the sim's
+  // carriage being its counters, the carriage at home, as the resume takes it to be.
+  board.reboot();
+  const std::string port = board.reconnect();
+  auto second = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json");
+  INFO(first.err << second.err);
+  REQUIRE(second.exit_code == 0);
+  const auto s = ebb_last_json(second.out);
+  CHECK(s["completed"].get<bool>());
+  CHECK(second.err.find("the carriage is taken to be at home") != std::string::npos);
+  // From the line after the pause, not from the 33 commands the FIFO might have held.
+  const std::string text = test::read_file(e.job);
+  const size_t pause_line = static_cast<size_t>(test::count_lines(text.substr(0, text.find("# pause:")))) + 1;
+  CHECK(s["resume"]["from_line"].get<size_t>() == pause_line + 1);
+  CHECK(s["resume"]["why"].get<std::string>().find("proved drawn") != std::string::npos);
+  CHECK(s["resume"]["redraw_mm"].get<double>() == 0);
+  board.finish();
+  check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));  // each mark once, to the step
+  WARN("reset at the pause (line " << pause_line << "): resumed at line " << s["resume"]["from_line"] << ", "
+                                   << s["resume"]["why"].get<std::string>());
+}
+
+TEST_CASE("A reset board resumed from a proof inside a stroke: the split SM draws its rest exactly", "[ebb]") {
+  test::TempDir t;
+  const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));
+  const std::string text = test::read_file(e.job);
+  const stipplot::io::Job job = stipplot::io::parse_ebb_job(text, 80);
+  ebbtest::EbbBoard board(t.file("fw.log"));
+  auto first = test::run_cli("plot " + e.job + " --profile axidraw-v3 --port " + board.port() + " --pen-change stop -q");
+  CHECK(first.exit_code != 0);  // at the pause, the board idle at the end of layer 1's last stroke
+  // A proof half-way along one of that stroke's last SMs (the board passed there: a true
+  // one, as a QS while the FIFO ran out would give), journalled as the streamer does.
+  size_t pause = 0;
+  while (!job.lines[pause].pause) ++pause;
+  size_t k = pause;
+  auto steps_of = [&](size_t i) { return stipplot::io::parse_ebb_command(job.lines[i].text, i + 1); };
+  while (--k > pause - 25)
+    if (job.lines[k].motion && job.lines[k].pen_down && std::llabs(steps_of(k).s1) + std::llabs(steps_of(k).s2) >= 40) break;
+  REQUIRE(k > pause - 25);
+  const auto p0 = stipplot::io::ebb::steps_after(job, static_cast<long>(k) - 1, 80);
+  const auto sm = steps_of(k);
+  const stipplot::io::ebb::Steps q{p0[0] + sm.s1 / 2, p0[1] + sm.s2 / 2};
+  char rec[128];
+  std::snprintf(rec, sizeof rec, "pos %zu %.4f %.4f 0.0000", k, static_cast<double>(q[0] + q[1]) / 160,
+                static_cast<double>(q[0] - q[1]) / 160);
+  std::ofstream(e.job + ".journal", std::ios::app) << stipplot::io::Journal::record(rec) << "\n";
+  board.reboot();  // switched off and on: counters at 0, the (sim's) carriage home
+  const std::string port = board.reconnect();
+  auto second = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json");
+  INFO(first.err << second.err);
+  REQUIRE(second.exit_code == 0);
+  const auto s = ebb_last_json(second.out);
+  CHECK(s["completed"].get<bool>());
+  CHECK(s["resume"]["why"].get<std::string>().find("split") != std::string::npos);
+  CHECK(s["resume"]["from_line"].get<size_t>() == k + 2);  // the line after the split one
+  board.finish();
+  const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
+  const auto planned = ebbtest::job_marks(e.job, 80);
+  const auto lost = ebbtest::farthest(planned, log.marks, 0.01, 0.5);
+  CHECK(lost.worst <= 2 * kStep);
+  const auto stray = ebbtest::farthest(log.marks, planned, 0.01, 0.5);
+  CHECK(stray.worst <= 2 * kStep);
+  // Drawn twice: the split SM's rest and the stroke's moves after it, to the step (then
+  // the pen went up for the pause).
+  size_t rest = static_cast<size_t>(std::llabs(sm.s1 - sm.s1 / 2) + std::llabs(sm.s2 - sm.s2 / 2));
+  for (size_t i = k + 1; i < pause; ++i)
+    if (job.lines[i].motion && job.lines[i].pen_down)
+      rest += static_cast<size_t>(std::llabs(steps_of(i).s1) + std::llabs(steps_of(i).s2));
+  CHECK(log.down_steps == ebbtest::job_down_steps(e.job) + rest);
+  CHECK(log.m1 == 0);
+  CHECK(log.m2 == 0);
+  WARN("split SM on line " << k + 1 << " (" << job.lines[k].text << ") at its half: " << rest
+                           << " pen-down steps drawn again (its rest and the stroke's end), as planned; farthest job point from ink " << lost.worst
+                           << " mm, stray ink " << stray.worst << " mm");
 }
 
 TEST_CASE("EBB bad input: a port where no EBB answers V is refused", "[ebb]") {

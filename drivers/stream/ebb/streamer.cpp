@@ -9,6 +9,7 @@
 
 #include "drivers/job/ebb_reader.hpp"
 #include "drivers/stream/device_error.hpp"
+#include "drivers/stream/ebb/reset.hpp"
 #include "drivers/stream/session.hpp"
 
 namespace stipplot::io::ebb {
@@ -46,6 +47,7 @@ Firmware parse_firmware(const std::string& reply) {
 Options options_for(const DeviceProfile& p) {
   Options o;
   o.fifo = p.ebb.fifo_commands;
+  o.steps_per_mm = p.ebb.steps_per_mm;
   o.watchdog = Millis(static_cast<long>(p.serial.watchdog_s * 1000));
   return o;
 }
@@ -205,8 +207,9 @@ void Streamer::wait_idle(double max_seconds) {
   }
 }
 
-ResumePlan Streamer::resume(const Job& job, const JournalState& journal, double spm) {
+ResumePlan Streamer::resume(const Job& job, const JournalState& journal, const DeviceProfile& profile) {
   const auto& L = job.lines;
+  const double spm = profile.ebb.steps_per_mm;
   wait_idle(60);  // what a dead host queued runs to its end first
   const std::array<int64_t, 2> at = position();
   const bool up = pen_up();
@@ -237,14 +240,32 @@ ResumePlan Streamer::resume(const Job& job, const JournalState& journal, double 
         break;
       }
   }
+  size_t first_sm = 0;
+  while (first_sm < L.size() && name_of(L[first_sm].text) != "SM") ++first_sm;
+  const bool home = at[0] == 0 && at[1] == 0;
+  if (where >= 0 && home && static_cast<size_t>(where) < first_sm) {
+    rp.next = 0;  // still in the set-up, maybe reset there: all of it again (EM zeroes the board where it stands)
+    rp.preamble.clear();
+    rp.why = "the board stands at home before the job's first move";
+    return rp;
+  }
+  if (where < 0 && home) {
+    // Reset (a power cycle or reboot zeroes the counters and loses the FIFO): what it ran
+    // is the journal's to say. Only the operator can say where the carriage is.
+    ResumePlan reset = plan_reset_resume(job, journal, profile, fw_.major >= 3 ? o_.fifo : 1);
+    reset.note = "the board was reset (it stands at 0,0, where none of the journal's last lines leave it): the carriage is "
+                 "taken to be at home, where the plot began; if it is not, stop and move it there by hand, then resume "
+                 "again; resuming at line " + std::to_string(reset.next + 1) + ", " + reset.why;
+    return reset;
+  }
   if (where < 0) {
     char b[200];
     std::snprintf(b, sizeof b, "the EBB stands at motor steps %lld,%lld (pen %s), not where the job's lines %ld-%zu leave it",
                   static_cast<long long>(at[0]), static_cast<long long>(at[1]), up ? "up" : "down", journal.last_acked + 1,
                   last + 1);
     throw UserError(std::string(b) +
-                    ": it was reset, switched off or moved since; nothing was sent (resuming on a reset board is not "
-                    "supported yet)");
+                    ": it was moved since (a reset board stands at 0,0); nothing was sent: move it home by hand, "
+                    "switch it off and on, and resume again");
   }
   rp.next = static_cast<size_t>(where) + 1;
   if (rp.next != first + 1)
@@ -260,7 +281,12 @@ class Streamer::JobRun {
  public:
   JobRun(Streamer& s, const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
          const ProgressFn& progress, StreamControls* controls)
-      : s_(s), session_(job, start, preamble, journal, progress), controls_(controls) {
+      : s_(s), session_(job, start, preamble, journal, progress), controls_(controls), spm_(s.o_.steps_per_mm) {
+    for (const std::string& p : preamble)
+      if (name_of(p) == "SM") {
+        const EbbCommand c = parse_ebb_command(p, 0);
+        preamble_moves_ |= c.s1 != 0 || c.s2 != 0;
+      }
     for (const JobLine& l : job.lines) {
       if (pen_up_.empty() && l.text.rfind("SP,1", 0) == 0) pen_up_ = l.text;
       if (pen_down_.empty() && l.text.rfind("SP,0", 0) == 0) pen_down_ = l.text;
@@ -273,7 +299,7 @@ class Streamer::JobRun {
         session_.sync_journal();
         return session_.finish();
       }
-      s_.wait_idle(queued_seconds());
+      settle();
     } catch (const UserError&) {  // device errors and a lost link too: the journal is made durable
       session_.sync_journal();
       throw;
@@ -300,12 +326,59 @@ class Streamer::JobRun {
   void answer_front() {
     const size_t item = in_flight_.front();
     const double allowed = queued_seconds();
+    if (item == kQs) {
+      const std::string r = s_.reply("QS", s_.o_.watchdog + millis(allowed));
+      in_flight_.pop_front();
+      const size_t before = qs_after_.front();
+      qs_after_.pop_front();
+      long long a = 0, b = 0;
+      if (std::sscanf(r.c_str(), "%lld,%lld", &a, &b) == 2) prove({a, b}, before);
+      return;
+    }
     s_.reply(session_.text(item), s_.o_.watchdog + millis(allowed), session_.job_line(item));
     in_flight_.pop_front();
     answered_ = item + 1;
     if (name_of(session_.text(item)) == "SM") moved_ = true;
     if (session_.job_line(item) >= 0) session_.acknowledge(session_.job_line(item));
     session_.report(sent_);
+  }
+
+  // A QS answered after items [0, before) were queued: the carriage stood on the path of
+  // a job line from the first one the board may not have run by then (ebb/reset.hpp:
+  // the FIFO holds the last ones) up to the last acknowledged, the earliest such line
+  // taken. While that window reaches back into a preamble that moves (a reset's travel
+  // home), nothing is proved: the carriage may be on that travel. O(fifo + window).
+  void prove(const Steps& at, size_t before) {
+    const long last = before ? session_.job_line(before - 1) : -1;
+    if (last < 0) return;  // nothing of the job queued yet
+    const size_t start = session_.start();
+    const size_t lo = first_unsure(session_.job(), last, s_.o_.fifo);
+    if (lo < start && preamble_moves_) return;
+    const size_t from = std::max({lo, start, proof_.line > 0 ? static_cast<size_t>(proof_.line) : size_t{0}});
+    const long line = first_on_path(session_.job(), from, static_cast<size_t>(last), at, spm_);
+    if (line < 0) return;
+    const double x = static_cast<double>(at[0] + at[1]) / (2 * spm_), y = static_cast<double>(at[0] - at[1]) / (2 * spm_);
+    const ProvenPoint p{line, x, y, 0};
+    if (p == proof_) return;
+    proof_ = p;
+    session_.proven(p);
+  }
+
+  // Waits for the board to run what it queued (the job's end, a pause, a hold), proving
+  // where the carriage is as it goes and once it stands: the FIFO is no longer kept full,
+  // so a proof says more than the FIFO's bound does (at a pause, exactly where it stopped).
+  void settle() {
+    const auto end = clock::now() + millis(queued_seconds()) + s_.o_.watchdog;
+    while (!s_.idle()) {
+      if (clock::now() > end)
+        throw TransportError(TransportError::Kind::Timeout, "the EBB on " + s_.t_.describe() + " did not finish its moves");
+      if (proving()) {
+        next_proof_ = clock::now() + s_.o_.proof_interval;
+        prove(s_.position(), sent_);
+      }
+      std::this_thread::sleep_for(Millis(20));
+    }
+    if (moved_ && spm_ > 0 && s_.o_.proof_interval.count() > 0) prove(s_.position(), sent_);
   }
 
   void drain() {
@@ -315,7 +388,7 @@ class Streamer::JobRun {
   // The job's pause (a pen change): everything before it drawn, then ask.
   void pause_at(size_t item) {
     drain();
-    s_.wait_idle(queued_seconds());
+    settle();
     const JobLine& jl = *line_of(item);
     PauseAnswer a = PauseAnswer::go;
     if (s_.o_.on_pause) {
@@ -332,7 +405,7 @@ class Streamer::JobRun {
   // The operator's pause (Ctrl-C): the queue runs out, the pen goes up; then resume or abort.
   bool hold() {
     drain();
-    s_.wait_idle(queued_seconds());
+    settle();
     const bool was_down = !s_.pen_up();
     if (was_down && !pen_up_.empty()) s_.command(pen_up_);
     while (!controls_->resume.load() && !controls_->abort.load()) {
@@ -352,7 +425,7 @@ class Streamer::JobRun {
       if (controls_ && controls_->abort.exchange(false)) {
         // Stop sending; what the board queued runs out (under a second), the pen goes up.
         drain();
-        s_.wait_idle(queued_seconds());
+        settle();
         if (!pen_up_.empty()) s_.command(pen_up_);
         return false;
       }
@@ -370,6 +443,13 @@ class Streamer::JobRun {
           answered_ = ++sent_;
           continue;
         }
+        if (proving()) {  // takes the free place in the window; the command waits for the next
+          s_.t_.write("QS\r");
+          in_flight_.push_back(kQs);
+          qs_after_.push_back(sent_);
+          next_proof_ = clock::now() + s_.o_.proof_interval;
+          continue;
+        }
         s_.t_.write(session_.text(sent_) + "\r");
         in_flight_.push_back(sent_++);
         continue;
@@ -379,10 +459,18 @@ class Streamer::JobRun {
     return true;
   }
 
+  bool proving() const { return moved_ && spm_ > 0 && s_.o_.proof_interval.count() > 0 && clock::now() >= next_proof_; }
+
+  static constexpr size_t kQs = static_cast<size_t>(-1);  // a QS in flight, not an item
   Streamer& s_;
   StreamSession session_;
   StreamControls* controls_;
   std::deque<size_t> in_flight_;
+  std::deque<size_t> qs_after_;  // for each QS in flight: the items sent before it
+  double spm_ = 0;
+  bool preamble_moves_ = false;  // the preamble has SMs that move
+  clock::time_point next_proof_ = clock::now();
+  ProvenPoint proof_;  // the last journalled
   size_t sent_ = 0, answered_ = 0;
   bool moved_ = false;  // an SM has been answered
   std::string pen_up_, pen_down_;

@@ -7,9 +7,17 @@
 //    that keeps power runs everything it queued. A few commands are kept in flight so the
 //    FIFO never runs dry between an OK and the next command. An error reply ("!8 Err:
 //    ...") stops the plot at that line. The end is known from QG: queue empty, motors idle.
+//  - While streaming, a QS every proof_interval (in the in-flight window: it is answered
+//    after the commands before it are queued) gives the carriage's position, on the path
+//    of an SM already acknowledged: the first such line since the board surely ran the
+//    ones before (ebb/reset.hpp) is journalled as a proof (StreamSession::proven). One
+//    more once the board stands (the job's end, a pause, a hold): the point it stopped at.
 //  - resume(): after a dropped link the board still holds its position (QS) and pen (QP):
 //    the job goes on after the line the board's state matches, found among the lines the
-//    journal had not heard back about.
+//    journal had not heard back about. A board that was reset (power cycle, reboot) stands
+//    at 0,0 matching none of them: its FIFO is lost, so the job goes on from the
+//    journal's last proof or the first line it may not have run (plan_reset_resume), the
+//    carriage taken to be at home, where the plot began.
 // Both reply syntaxes are read: the legacy one (2.x, and 3.x by default: "OK\r\n", data
 // lines ended by "\r\n" or "\n\r") and 3.x's standardized one after CU,10,1 (one line
 // per command, starting with its name).
@@ -45,6 +53,10 @@ struct Options {
   // connect() lengthens the FIFO (CU,4); off for a look at a board (V, QT) that leaves its
   // motion settings as they are.
   bool setup = true;
+  // A QS this often while streaming proves where the carriage is (0: never); a few a
+  // second cost the stream nothing (a query in the in-flight window).
+  Millis proof_interval{300};
+  double steps_per_mm = 80;  // the job's positions (mm) from QS's motor steps
   PauseFn on_pause;
   std::function<void(const std::string&)> log;
 };
@@ -68,9 +80,11 @@ class Streamer {
   // Where a job left on this board goes on: the first line after the one whose end the
   // board's position and pen match, from the journal's last acknowledged line up to the
   // commands that were in flight; the preamble restores the pen's servo settings (and
-  // the pen, when the host lifted it). Throws UserError when the board matches none (it
-  // was reset, powered off or moved). O(window).
-  ResumePlan resume(const Job& job, const JournalState& journal, double steps_per_mm);
+  // the pen, when the host lifted it). A board at 0,0 that matches none was reset: the
+  // plan of plan_reset_resume (ebb/reset.hpp), its note saying the carriage is taken to
+  // be at home. Throws UserError when a board elsewhere matches none (it was moved).
+  // O(window), O(job size) after a reset.
+  ResumePlan resume(const Job& job, const JournalState& journal, const DeviceProfile& profile);
   StreamResult stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
                       const ProgressFn& progress = {}, StreamControls* controls = nullptr);
 
