@@ -312,8 +312,10 @@ void EbbBoard::relay() {
     if (m >= 0 && (p[1].revents & POLLHUP)) ::usleep(2000);
     char buf[4096];
     ssize_t n;
-    while ((n = ::read(from_fw_, buf, sizeof buf)) > 0)
+    while ((n = ::read(from_fw_, buf, sizeof buf)) > 0) {
+      forward_from_firmware(buf, static_cast<size_t>(n));
       if (m >= 0) [[maybe_unused]] ssize_t w = ::write(m, buf, static_cast<size_t>(n));  // lost while the link is down
+    }
     if (m < 0) continue;
     n = ::read(m, buf, sizeof buf);
     if (n <= 0) continue;  // nobody has the pty open yet, or nothing sent
@@ -323,6 +325,14 @@ void EbbBoard::relay() {
       if (++commands_ == drop_after_) {
         ++k;
         break;
+      }
+    }
+    for (size_t i = 0; i < k; ++i) {  // the names of the commands sent, for the answers' pairing
+      if (buf[i] == '\r') {
+        unanswered_.push_back(sending_.substr(0, sending_.find(',')));
+        sending_.clear();
+      } else if (buf[i] != '\n') {
+        sending_ += buf[i];
       }
     }
     [[maybe_unused]] ssize_t w = ::write(to_fw_, buf, k);
@@ -337,6 +347,28 @@ void EbbBoard::relay() {
       ::close(master_);
       master_ = -1;
     }
+  }
+}
+
+// Pairs the firmware's answer lines with the commands sent (legacy replies: data lines,
+// then "OK"; V answers with its version line alone) and, once the button is pressed, turns
+// the next QB's "0" into "1" in place.
+void EbbBoard::forward_from_firmware(char* buf, size_t n) {
+  for (size_t i = 0; i < n; ++i) {
+    const char c = buf[i];
+    if (c == '\r' || c == '\n') {
+      if (reading_.empty()) continue;
+      if (!unanswered_.empty() && (reading_ == "OK" || unanswered_.front() == "V")) unanswered_.pop_front();
+      reading_.clear();
+      continue;
+    }
+    if (reading_.empty() && c == '0' && press_after_ && commands_ >= press_after_ && !unanswered_.empty() &&
+        unanswered_.front() == "QB") {
+      buf[i] = '1';
+      pressed_ = true;
+      press_after_ = 0;
+    }
+    reading_ += buf[i];
   }
 }
 

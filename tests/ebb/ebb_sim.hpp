@@ -9,6 +9,7 @@
 #include <sys/types.h>
 
 #include <atomic>
+#include <deque>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -103,6 +104,12 @@ class EbbBoard {
   // The board is reset while no host talks to it (between two plots): its own RB, as
   // above. Only while no client sends (its bytes could split the command).
   void reboot();
+  // The board's PRG button is pressed once the client's n-th command reached the firmware.
+  // ebb_sim reads its buttons as released (its README), so the rig stands in for the
+  // press, openly: the firmware's own answer to the next QB after it ("0", legacy replies)
+  // reaches the client as "1". The relay pairs each answer with its command to find it.
+  void press_button_after_commands(size_t n) { press_after_ = n; }
+  bool button_reported() const { return pressed_; }
   bool dropped() const { return dropped_; }
   size_t commands() const { return commands_; }
   std::string reconnect();  // a new pty to the same firmware
@@ -116,7 +123,14 @@ class EbbBoard {
   std::string port_;
   std::thread thread_;
   std::atomic<bool> stop_{false}, dropped_{false}, reset_{false};
-  std::atomic<size_t> drop_after_{0}, commands_{0};
+  std::atomic<size_t> drop_after_{0}, commands_{0}, press_after_{0};
+  std::atomic<bool> pressed_{false};
+  // The relay's pairing of answers with commands: the names sent and not yet answered
+  // (an answer ends with its "OK" line; V's is its version line alone), the command being
+  // sent, and the answer line being read.
+  std::deque<std::string> unanswered_;
+  std::string sending_, reading_;
+  void forward_from_firmware(char* buf, size_t n);
   std::mutex mu_;  // master_ and port_ between the relay and reconnect()
 };
 

@@ -2,6 +2,7 @@
 // from its step and pen events, against the plan; its motion time against the estimate;
 // streaming over a pty with `stipplot plot`, a dropped link and --resume.
 #include <catch2/catch.hpp>
+#include <algorithm>
 
 #include <fcntl.h>
 #include <signal.h>
@@ -219,6 +220,30 @@ TEST_CASE("A dropped link mid-plot, then plot --resume on the powered EBB, loses
       check_drawn_as_planned(e, log);
     }
   }
+}
+
+// ebb_sim's buttons read released, so the rig presses PRG for it: the firmware's answer to
+// the first QB after the press reaches stipplot as "1" (EbbBoard::press_button_after_commands).
+// Pressed from the start, the first QB (asked once the first move is answered) says so, with
+// the stroke under way: the pen is lifted where the board stops and put down there again.
+TEST_CASE("The board's PRG button pauses a plot as axicli's does, and plot --resume draws the rest, each mark once", "[ebb]") {
+  test::TempDir t;
+  const Exported e = export_both("export " + test::example("foreign.svg") + " --profile axidraw-v3", t.file("foreign"));
+  ebbtest::EbbBoard board(t.file("fw.log"));
+  board.press_button_after_commands(1);
+  auto first = test::run_cli("plot " + e.job + " --profile axidraw-v3 --port " + board.port() + " --pen-change continue -q");
+  INFO(first.err);
+  CHECK(first.exit_code != 0);
+  CHECK(board.button_reported());
+  CHECK(first.err.find("PRG button") != std::string::npos);
+  CHECK(first.err.find("--resume") != std::string::npos);
+  CHECK(std::count(first.err.begin(), first.err.end(), '\n') == 1);
+  auto second = test::run_cli("plot --resume " + e.job + " --port " + board.port() + " --pen-change continue --json -q");
+  INFO(second.err);
+  REQUIRE(second.exit_code == 0);
+  CHECK(ebb_last_json(second.out)["completed"].get<bool>());
+  board.finish();
+  check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));
 }
 
 TEST_CASE("A plot resumed twice (the link dropped at 30 % and again at 70 %) still draws each mark once", "[ebb]") {

@@ -326,6 +326,12 @@ class Streamer::JobRun {
   void answer_front() {
     const size_t item = in_flight_.front();
     const double allowed = queued_seconds();
+    if (item == kQb) {
+      const std::string r = s_.reply("QB", s_.o_.watchdog + millis(allowed));
+      in_flight_.pop_front();
+      button_ |= std::atoi(r.c_str()) != 0;
+      return;
+    }
     if (item == kQs) {
       const std::string r = s_.reply("QS", s_.o_.watchdog + millis(allowed));
       in_flight_.pop_front();
@@ -433,6 +439,16 @@ class Streamer::JobRun {
         if (!pen_up_.empty()) s_.command(pen_up_);
         return false;
       }
+      if (button_) {
+        // The PRG button: stop as an abort does, and say how to go on.
+        drain();
+        settle();
+        if (!pen_up_.empty()) s_.command(pen_up_);
+        session_.sync_journal();
+        const long done = session_.result().last_acked;
+        throw UserError("paused by the board's PRG button after line " + std::to_string(done + 1) +
+                        ": the pen is up and the journal kept; `stipplot plot --resume JOB` goes on from there");
+      }
       // Until the first move is answered, one command at a time: a set-up the board refuses
       // stops the plot before the pen moves.
       if (sent_ < n && in_flight_.size() < (moved_ ? s_.o_.in_flight : 1)) {
@@ -441,6 +457,12 @@ class Streamer::JobRun {
           if (jl->pause) pause_at(sent_);
           else session_.acknowledge(session_.job_line(sent_));
           answered_ = ++sent_;
+          continue;
+        }
+        if (asking_button()) {  // as a QS: a place in the window
+          s_.t_.write("QB\r");
+          in_flight_.push_back(kQb);
+          next_button_ = clock::now() + s_.o_.button_interval;
           continue;
         }
         if (proving()) {  // takes the free place in the window; the command waits for the next
@@ -461,7 +483,10 @@ class Streamer::JobRun {
 
   bool proving() const { return moved_ && spm_ > 0 && s_.o_.proof_interval.count() > 0 && clock::now() >= next_proof_; }
 
+  bool asking_button() const { return moved_ && s_.o_.button_interval.count() > 0 && clock::now() >= next_button_; }
+
   static constexpr size_t kQs = static_cast<size_t>(-1);  // a QS in flight, not an item
+  static constexpr size_t kQb = static_cast<size_t>(-2);  // a QB in flight
   Streamer& s_;
   StreamSession session_;
   StreamControls* controls_;
@@ -470,6 +495,8 @@ class Streamer::JobRun {
   double spm_ = 0;
   bool preamble_moves_ = false;  // the preamble has SMs that move
   clock::time_point next_proof_ = clock::now();
+  clock::time_point next_button_ = clock::now();
+  bool button_ = false;  // a QB said the PRG button was pressed
   ProvenPoint proof_;  // the last journalled
   size_t sent_ = 0, answered_ = 0;
   bool moved_ = false;  // an SM has been answered

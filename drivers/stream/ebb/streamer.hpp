@@ -56,6 +56,10 @@ struct Options {
   // A QS this often while streaming proves where the carriage is (0: never); a few a
   // second cost the stream nothing (a query in the in-flight window).
   Millis proof_interval{300};
+  // A QB this often while streaming asks whether the board's PRG button was pressed (0:
+  // never). Pressed, the plot stops as axicli's does: what the board queued runs out, the
+  // pen goes up, the journal is kept, and `plot --resume` goes on from the board's place.
+  Millis button_interval{500};
   double steps_per_mm = 80;  // the job's positions (mm) from QS's motor steps
   PauseFn on_pause;
   std::function<void(const std::string&)> log;
