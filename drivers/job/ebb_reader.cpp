@@ -26,13 +26,19 @@ std::array<int64_t, 2> ebb_motor_steps(double x, double y, double spm) {
   return {std::llround(spm * (x + y)), std::llround(spm * (x - y))};
 }
 
+std::string ebb_command_name(std::string_view text) {
+  std::string n;
+  for (char ch : text.substr(0, text.find(','))) n += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  return n;
+}
+
 EbbCommand parse_ebb_command(std::string_view text, size_t line_no) {
   auto fail = [&](const std::string& why) -> EbbCommand {
     throw UserError("EBB job line " + std::to_string(line_no) + " `" + std::string(text) + "`: " + why);
   };
   EbbCommand c;
   const size_t comma = text.find(',');
-  for (char ch : text.substr(0, comma)) c.name += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  c.name = ebb_command_name(text);
   for (size_t i = comma; i != std::string_view::npos;) {
     const size_t next = text.find(',', i + 1);
     const std::string num(text.substr(i + 1, next == std::string_view::npos ? std::string_view::npos : next - i - 1));

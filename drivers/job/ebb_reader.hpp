@@ -27,6 +27,9 @@ struct EbbCommand {
 // commands a job may hold (SM SP EM SC CU), or numbers out of the firmware's range.
 EbbCommand parse_ebb_command(std::string_view text, size_t line_no);
 
+// A command's name: the text before its first comma, upper case ("sm,10,1,1" -> "SM").
+std::string ebb_command_name(std::string_view text);
+
 // Throws UserError naming the first bad line. O(text length).
 Job parse_ebb_job(const std::string& text, double steps_per_mm);
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace stipplot::motion {
 
@@ -15,6 +16,13 @@ Vec2 EbbGeometry::mm(const MotorSteps& s) const {
 
 bool ebb_move_ok(const EbbMove& m) {
   return m.ms >= 1 && std::llabs(m.s1) <= kEbbStepsPerMs * m.ms && std::llabs(m.s2) <= kEbbStepsPerMs * m.ms;
+}
+
+std::string sm_command(const EbbMove& m) {
+  char b[80];
+  std::snprintf(b, sizeof b, "SM,%lld,%lld,%lld", static_cast<long long>(m.ms), static_cast<long long>(m.s1),
+                static_cast<long long>(m.s2));
+  return b;
 }
 
 double block_distance(const MotionBlock& b, double a, double t) {

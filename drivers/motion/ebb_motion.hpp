@@ -9,6 +9,7 @@
 // plan says, to half a step), and every move between samples becomes one SM.
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "drivers/motion/time_model.hpp"
@@ -35,6 +36,8 @@ struct EbbMove {
 // ms on either motor (its rate accumulator overflows past that: "step rate too high").
 constexpr int64_t kEbbStepsPerMs = 25;
 bool ebb_move_ok(const EbbMove& m);
+// The move as the firmware's command: "SM,<ms>,<steps 1>,<steps 2>".
+std::string sm_command(const EbbMove& m);
 
 // Cuts timed blocks (machine mm, planned with acceleration accel_mm_s2, back to back from rest to rest, as polyline_seconds gives
 // them) into SM moves of at most slice_ms, starting from motor position `at` and

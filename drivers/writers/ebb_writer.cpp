@@ -54,12 +54,7 @@ class EbbJobWriter {
     if (pts.size() < 2) return;
     moves_.clear();
     motion::polyline_moves(pts, vmax, p_.motion, geo_, p_.ebb.time_slice_ms, at_, clock_ms_, blocks_, moves_);
-    char buf[80];
-    for (const motion::EbbMove& m : moves_) {
-      std::snprintf(buf, sizeof buf, "SM,%lld,%lld,%lld", static_cast<long long>(m.ms), static_cast<long long>(m.s1),
-                    static_cast<long long>(m.s2));
-      sink_(buf);
-    }
+    for (const motion::EbbMove& m : moves_) sink_(motion::sm_command(m));
   }
 
   const Plan& plan_;

@@ -1,7 +1,6 @@
 #include "drivers/stream/ebb/reset.hpp"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -13,12 +12,6 @@ namespace stipplot::io::ebb {
 
 namespace {
 
-std::string cmd_name(const std::string& text) {
-  std::string n = text.substr(0, text.find(','));
-  for (char& c : n) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return n;
-}
-
 // A motor may stand this far (steps) from the straight line of its move: its step
 // comes when its rate accumulator overflows, up to a tick after the other motor's.
 constexpr double kPathTol = 1.5;
@@ -26,13 +19,6 @@ constexpr double kPathTol = 1.5;
 double length_mm(const Steps& a, const Steps& b, double spm) {
   const double d1 = static_cast<double>(b[0] - a[0]), d2 = static_cast<double>(b[1] - a[1]);
   return std::hypot((d1 + d2) / 2, (d1 - d2) / 2) / spm;
-}
-
-std::string sm(int64_t ms, int64_t s1, int64_t s2) {
-  char b[80];
-  std::snprintf(b, sizeof b, "SM,%lld,%lld,%lld", static_cast<long long>(ms), static_cast<long long>(s1),
-                static_cast<long long>(s2));
-  return b;
 }
 
 }  // namespace
@@ -84,7 +70,7 @@ size_t first_unsure(const Job& job, long last, int fifo) {
   for (long i = std::min<long>(last, static_cast<long>(job.lines.size()) - 1); i >= 0; --i) {
     const JobLine& l = job.lines[static_cast<size_t>(i)];
     if (l.host_only) continue;
-    const std::string n = cmd_name(l.text);
+    const std::string n = ebb_command_name(l.text);
     if ((n == "SM" || n == "SP" || n == "EM") && ++queued == fifo + 1) return static_cast<size_t>(i);
   }
   return 0;
@@ -95,7 +81,7 @@ ResumePlan plan_reset_resume(const Job& job, const JournalState& journal, const 
   const double spm = profile.ebb.steps_per_mm;
   const long last = std::min(journal.last_acked, static_cast<long>(L.size()) - 1);
   size_t first_sm = 0;
-  while (first_sm < L.size() && (L[first_sm].host_only || cmd_name(L[first_sm].text) != "SM")) ++first_sm;
+  while (first_sm < L.size() && (L[first_sm].host_only || ebb_command_name(L[first_sm].text) != "SM")) ++first_sm;
   const size_t lo = first_unsure(job, last, fifo);
 
   // The last proof, when it says more than the FIFO's bound does.
@@ -142,12 +128,12 @@ ResumePlan plan_reset_resume(const Job& job, const JournalState& journal, const 
   // The job's own set-up (EM, SC, its pen-up), then the pen up in any case.
   std::string pen_up, pen_down;
   for (size_t k = 0; k < L.size() && pen_up.empty(); ++k)
-    if (!L[k].host_only && cmd_name(L[k].text) == "SP" && parse_ebb_command(L[k].text, k + 1).pen == 1) pen_up = L[k].text;
+    if (!L[k].host_only && ebb_command_name(L[k].text) == "SP" && parse_ebb_command(L[k].text, k + 1).pen == 1) pen_up = L[k].text;
   bool header_lifts = false;
   for (size_t k = 0; k < first_sm; ++k) {
     if (L[k].host_only) continue;
     rp.preamble.push_back(L[k].text);
-    if (cmd_name(L[k].text) == "SP") header_lifts = !L[k].pen_down;
+    if (ebb_command_name(L[k].text) == "SP") header_lifts = !L[k].pen_down;
   }
   if (!header_lifts && !pen_up.empty()) rp.preamble.push_back(pen_up);
   // An accelerated travel from home, as the writer moves (a constant-speed jump would stall a real stepper).
@@ -159,15 +145,15 @@ ResumePlan plan_reset_resume(const Job& job, const JournalState& journal, const 
   std::vector<motion::EbbMove> moves;
   motion::polyline_moves({geo.mm({0, 0}), geo.mm({target[0], target[1]})}, profile.motion.speed_up_mm_s, profile.motion,
                          geo, profile.ebb.time_slice_ms, pos, clock_ms, blocks, moves);
-  for (const motion::EbbMove& m : moves) rp.preamble.push_back(sm(m.ms, m.s1, m.s2));
+  for (const motion::EbbMove& m : moves) rp.preamble.push_back(motion::sm_command(m));
   if (pos[0] != target[0] || pos[1] != target[1]) {  // rounding never leaves it off, but to the step it must be
     const SmPart fix = sm_remainder(1, target[0] - pos[0], target[1] - pos[1], {0, 0});
-    rp.preamble.push_back(sm(fix.ms, fix.s1, fix.s2));
+    rp.preamble.push_back(motion::sm_command({fix.ms, fix.s1, fix.s2}));
   }
   const bool down = split || L[from - 1].pen_down;
   if (down) {
     for (size_t k = from; k-- > 0;)
-      if (!L[k].host_only && cmd_name(L[k].text) == "SP" && L[k].pen_down) {
+      if (!L[k].host_only && ebb_command_name(L[k].text) == "SP" && L[k].pen_down) {
         rp.preamble.push_back(L[k].text);  // the job's own pen-down, with its delay
         break;
       }
@@ -177,7 +163,7 @@ ResumePlan plan_reset_resume(const Job& job, const JournalState& journal, const 
     const EbbCommand c = parse_ebb_command(L[from].text, from + 1);
     const Steps p0 = steps_after(job, static_cast<long>(from) - 1, spm);
     const SmPart r = sm_remainder(c.ms, c.s1, c.s2, {at[0] - p0[0], at[1] - p0[1]});
-    rp.preamble.push_back(sm(r.ms, r.s1, r.s2));
+    rp.preamble.push_back(motion::sm_command({r.ms, r.s1, r.s2}));
     redraw += length_mm(at, steps_after(job, static_cast<long>(from), spm), spm);
     rp.next = from + 1;
   } else {

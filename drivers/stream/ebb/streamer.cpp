@@ -20,12 +20,6 @@ namespace {
 // Queries whose legacy reply is one line with no OK after it.
 bool no_ok(const std::string& name) { return name == "QG" || name == "V"; }
 
-std::string name_of(const std::string& cmd) {
-  std::string n = cmd.substr(0, cmd.find(','));
-  for (char& c : n) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return n;
-}
-
 Millis millis(double s) { return Millis(static_cast<long>(s * 1000)); }
 }  // namespace
 
@@ -85,7 +79,7 @@ bool is_error(const std::string& line) {
 }  // namespace
 
 std::string Streamer::reply(const std::string& cmd, Millis timeout, long job_line) {
-  const std::string name = name_of(cmd);
+  const std::string name = ebb_command_name(cmd);
   const auto end = clock::now() + timeout;
   std::string data, line;
   int nudges = 0;
@@ -216,8 +210,8 @@ ResumePlan Streamer::resume(const Job& job, const JournalState& journal, const D
   // The servo settings are the job's own (a board may have been set up since).
   ResumePlan rp;
   for (const JobLine& l : L) {
-    if (name_of(l.text) == "SM") break;
-    if (name_of(l.text) == "SC") rp.preamble.push_back(l.text);
+    if (ebb_command_name(l.text) == "SM") break;
+    if (ebb_command_name(l.text) == "SC") rp.preamble.push_back(l.text);
   }
   if (journal.last_acked < 0) return rp;  // nothing ran: from the start (EM zeroes the board)
   const size_t first = static_cast<size_t>(journal.last_acked);
@@ -235,13 +229,13 @@ ResumePlan Streamer::resume(const Job& job, const JournalState& journal, const D
   if (where < 0 && pos_only >= 0 && up) {
     where = pos_only;
     for (size_t i = static_cast<size_t>(where) + 1; i-- > 0;)
-      if (name_of(L[i].text) == "SP" && L[i].pen_down) {
+      if (ebb_command_name(L[i].text) == "SP" && L[i].pen_down) {
         rp.preamble.push_back(L[i].text);  // the job's own pen-down, with its delay
         break;
       }
   }
   size_t first_sm = 0;
-  while (first_sm < L.size() && name_of(L[first_sm].text) != "SM") ++first_sm;
+  while (first_sm < L.size() && ebb_command_name(L[first_sm].text) != "SM") ++first_sm;
   const bool home = at[0] == 0 && at[1] == 0;
   if (where >= 0 && home && static_cast<size_t>(where) < first_sm) {
     rp.next = 0;  // still in the set-up, maybe reset there: all of it again (EM zeroes the board where it stands)
@@ -283,7 +277,7 @@ class Streamer::JobRun {
          const ProgressFn& progress, StreamControls* controls)
       : s_(s), session_(job, start, preamble, journal, progress), controls_(controls), spm_(s.o_.steps_per_mm) {
     for (const std::string& p : preamble)
-      if (name_of(p) == "SM") {
+      if (ebb_command_name(p) == "SM") {
         const EbbCommand c = parse_ebb_command(p, 0);
         preamble_moves_ |= c.s1 != 0 || c.s2 != 0;
       }
@@ -344,7 +338,7 @@ class Streamer::JobRun {
     s_.reply(session_.text(item), s_.o_.watchdog + millis(allowed), session_.job_line(item));
     in_flight_.pop_front();
     answered_ = item + 1;
-    if (name_of(session_.text(item)) == "SM") moved_ = true;
+    if (ebb_command_name(session_.text(item)) == "SM") moved_ = true;
     if (session_.job_line(item) >= 0) session_.acknowledge(session_.job_line(item));
     session_.report(sent_);
   }
