@@ -18,6 +18,7 @@
 #include "svg/svg_writer.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
+#include "util/even_share.hpp"
 #include "util/output_paths.hpp"
 #include "util/threads.hpp"
 
@@ -99,13 +100,8 @@ std::vector<T> thin_list(const std::vector<T>& v, double k) {
   if (k >= 1) return v;
   std::vector<T> out;
   out.reserve(static_cast<size_t>(static_cast<double>(v.size()) * k) + 1);
-  // frac(i / phi) is equidistributed with low discrepancy: the kept marks are spread
-  // evenly over the list, so over the page too when the list runs across it.
-  constexpr double inv_phi = 0.6180339887498949;
-  for (size_t i = 0; i < v.size(); ++i) {
-    const double u = static_cast<double>(i) * inv_phi;
-    if (u - std::floor(u) < k) out.push_back(v[i]);
-  }
+  for (size_t i = 0; i < v.size(); ++i)
+    if (in_even_share(i, k)) out.push_back(v[i]);
   return out;
 }
 

@@ -10,6 +10,7 @@
 
 #include "methods/palette.hpp"
 #include "util/error.hpp"
+#include "util/even_share.hpp"
 
 namespace stipplot::pointillism {
 
@@ -380,10 +381,8 @@ Drawing place(const Result& r, const Placement& placement, const std::vector<Pen
   PenMatcher match(candidates);
   std::vector<Layer> layers(pens.size());
   auto pass = [&](const std::vector<PaintDot>& dots, int pass_index, double share) {
-    constexpr double inv_phi = 0.6180339887498949;  // an even share: frac(i / phi) < share
     for (size_t i = 0; i < dots.size(); ++i) {
-      const double u = static_cast<double>(i) * inv_phi;
-      if (share < 1 && u - std::floor(u) >= share) continue;
+      if (share < 1 && !in_even_share(i, share)) continue;  // as the budget thins marks
       const PaintDot& p = dots[i];
       const size_t k = match.nearest(p.color);
       if (k == pens.size()) continue;  // the paper
