@@ -213,14 +213,15 @@ void register_pointillism(CLI::App& app) {
               // A hatched ebauche is thinned by spacing its lines, not by leaving out whole ones.
               if (hatched(*args)) {
                 auto painted = std::make_shared<Painted>(paint_once(*args, in));
+                auto full = std::make_shared<MethodResult>(painted->at(1));  // placed once
                 // The ebauche's share of the full drawing's time predicts the rest: k of it,
                 // and k^3 of the dots'.
                 const budget::MarkCosts& c = in.costs;
-                const double all = budget::quick_estimate_seconds(painted->drawing(1, 1), c.motion(), c.plan_options());
+                const double all = budget::quick_estimate_seconds(full->drawing, c.motion(), c.plan_options());
                 const double eb = budget::quick_estimate_seconds(painted->drawing(1, 0), c.motion(), c.plan_options());
                 const double w = all > 0 ? std::clamp(eb / all, 0.0, 1.0) : 1;
                 return scaled_density(
-                    in, [painted](double k) { return painted->at(k); },
+                    in, [painted, full](double k) { return k >= 1 ? *full : painted->at(k); },
                     [w](double k) { return w * k + (1 - w) * Painted::stroke_share(k); });
               }
               return thinned_density(in, [args, &in] { return paint_once(*args, in).at(1); });
