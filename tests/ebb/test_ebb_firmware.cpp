@@ -55,6 +55,22 @@ Exported export_both(const std::string& args, const std::string& out) {
   return e;
 }
 
+// `plot --resume JOB --port PORT --pen-change continue --json` run to its end (it must
+// complete): its summary, and what it said (the resume's note; `quiet` adds -q). `before`
+// is what the interrupted run said, for a failure's message.
+struct Resumed {
+  nlohmann::json summary;
+  std::string err;
+};
+Resumed resume_to_end(const std::string& job, const std::string& port, const std::string& before, bool quiet = true) {
+  auto r = test::run_cli("plot --resume " + job + " --port " + port + " --pen-change continue --json" + (quiet ? " -q" : ""));
+  INFO(before << r.err);
+  REQUIRE(r.exit_code == 0);
+  Resumed out{ebb_last_json(r.out), r.err};
+  CHECK(out.summary["completed"].get<bool>());
+  return out;
+}
+
 // A motor step moves the pen 1/160 mm along x and along y (80 steps/mm of x + y and of
 // x - y): a pen within one step of a line on both motors is within 0.0125 mm of it.
 constexpr double kStep = 0.0125;
@@ -210,11 +226,7 @@ TEST_CASE("A dropped link mid-plot, then plot --resume on the powered EBB, loses
       CHECK(first.exit_code != 0);
       REQUIRE(board.dropped());
       const std::string port = board.reconnect();
-      auto second = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json -q");
-      INFO(first.err << second.err);
-      REQUIRE(second.exit_code == 0);
-      const auto s = ebb_last_json(second.out);
-      CHECK(s["completed"].get<bool>());
+      resume_to_end(e.job, port, first.err);
       board.finish();
       const ebbtest::SimLog log = ebbtest::read_log(log_path, 80);
       check_drawn_as_planned(e, log);
@@ -238,10 +250,7 @@ TEST_CASE("The board's PRG button pauses a plot as axicli's does, and plot --res
   CHECK(first.err.find("PRG button") != std::string::npos);
   CHECK(first.err.find("--resume") != std::string::npos);
   CHECK(std::count(first.err.begin(), first.err.end(), '\n') == 1);
-  auto second = test::run_cli("plot --resume " + e.job + " --port " + board.port() + " --pen-change continue --json -q");
-  INFO(second.err);
-  REQUIRE(second.exit_code == 0);
-  CHECK(ebb_last_json(second.out)["completed"].get<bool>());
+  resume_to_end(e.job, board.port(), first.err);
   board.finish();
   check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));
 }
@@ -263,10 +272,7 @@ TEST_CASE("A plot resumed twice (the link dropped at 30 % and again at 70 %) sti
   CHECK(second.exit_code != 0);
   REQUIRE(board.dropped());
   port = board.reconnect();
-  auto third = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json -q");
-  INFO(third.err);
-  REQUIRE(third.exit_code == 0);
-  CHECK(ebb_last_json(third.out)["completed"].get<bool>());
+  resume_to_end(e.job, port, first.err + second.err);
   board.finish();
   check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));
 }
@@ -293,10 +299,7 @@ TEST_CASE("The host killed (SIGKILL) mid-plot, then plot --resume on the powered
   ::waitpid(pid, &st, 0);
   REQUIRE(WIFSIGNALED(st));  // killed mid-plot, not finished
   const std::string port = board.reconnect();
-  auto r = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json -q");
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
-  CHECK(ebb_last_json(r.out)["completed"].get<bool>());
+  resume_to_end(e.job, port, "");
   board.finish();
   check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));
 }
@@ -336,11 +339,8 @@ TEST_CASE("A board reset mid-plot (30 and 70 %), then plot --resume from home: e
         CHECK(stipplot::io::ebb::on_sm_path(parsed, static_cast<size_t>(js.proven.line),
                                             stipplot::io::ebb_motor_steps(js.proven.x, js.proven.y, 80), 80));
       const std::string port = board.reconnect();
-      auto second = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json");
-      INFO(first.err << second.err);
-      REQUIRE(second.exit_code == 0);
-      const auto s = ebb_last_json(second.out);
-      CHECK(s["completed"].get<bool>());
+      const Resumed second = resume_to_end(e.job, port, first.err, false);
+      const auto& s = second.summary;
       CHECK(second.err.find("the board was reset") != std::string::npos);
       CHECK(second.err.find("the carriage is taken to be at home") != std::string::npos);
       CHECK(s["resume"]["note"].get<std::string>().find("taken to be at home") != std::string::npos);
@@ -384,11 +384,8 @@ TEST_CASE("A board reset at a pen-change pause, then plot --resume: from the QS 
   // carriage being its counters, the carriage at home, as the resume takes it to be.
   board.reboot();
   const std::string port = board.reconnect();
-  auto second = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json");
-  INFO(first.err << second.err);
-  REQUIRE(second.exit_code == 0);
-  const auto s = ebb_last_json(second.out);
-  CHECK(s["completed"].get<bool>());
+  const Resumed second = resume_to_end(e.job, port, first.err, false);
+  const auto& s = second.summary;
   CHECK(second.err.find("the carriage is taken to be at home") != std::string::npos);
   // From the line after the pause, not from the 33 commands the FIFO might have held.
   const std::string text = test::read_file(e.job);
@@ -428,11 +425,8 @@ TEST_CASE("A reset board resumed from a proof inside a stroke: the split SM draw
   std::ofstream(e.job + ".journal", std::ios::app) << stipplot::io::Journal::record(rec) << "\n";
   board.reboot();  // switched off and on: counters at 0, the (sim's) carriage home
   const std::string port = board.reconnect();
-  auto second = test::run_cli("plot --resume " + e.job + " --port " + port + " --pen-change continue --json");
-  INFO(first.err << second.err);
-  REQUIRE(second.exit_code == 0);
-  const auto s = ebb_last_json(second.out);
-  CHECK(s["completed"].get<bool>());
+  const Resumed second = resume_to_end(e.job, port, first.err, false);
+  const auto& s = second.summary;
   CHECK(s["resume"]["why"].get<std::string>().find("split") != std::string::npos);
   CHECK(s["resume"]["from_line"].get<size_t>() == k + 2);  // the line after the split one
   board.finish();
