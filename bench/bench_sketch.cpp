@@ -8,6 +8,9 @@
 //  - BM_SketchLink: one black pen's strokes of that photo on A4 (about 58k marks) linked
 //    into scribbles (the planner's tour over their ends, then the link tests), against
 //    the sketch that made them (BM_SketchBlack: probabilities, points, strokes).
+//  - BM_SketchGround: the hatched ground of that photo on A4 with the 8 rgb pens (the
+//    cells' nearest pens, then each pen's fields hatched at coverage 0.5), against the rgb
+//    sketch of it (BM_SketchRgb).
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 
@@ -85,6 +88,30 @@ void BM_SketchLink(benchmark::State& state) {
 BENCHMARK(BM_SketchBlack)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 BENCHMARK(BM_SketchLink)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
+void BM_SketchRgb(benchmark::State& state) {
+  const Image img = load_image(photo_12mp());
+  for (auto _ : state) {
+    const sketch::SketchResult r = sketch::sketch_strokes(img, sketch::SketchParams{}, a4_landscape());
+    benchmark::DoNotOptimize(r.pens.data());
+  }
+}
+void BM_SketchGround(benchmark::State& state) {
+  const Image img = load_image(photo_12mp());
+  const sketch::SketchResult r = sketch::sketch_strokes(img, sketch::SketchParams{}, a4_landscape());
+  std::vector<Pen> pens;
+  for (const auto& ps : r.pens) pens.push_back(ps.pen);
+  size_t lines = 0;
+  for (auto _ : state) {
+    const hatch::PenGrid g = sketch::ground_grid(img, pens, a4_landscape());
+    const Drawing d = sketch::ground_drawing(g, pens, a4_landscape(), 0.5);
+    lines = d.primitive_count();
+    benchmark::DoNotOptimize(lines);
+  }
+  state.counters["lines"] = static_cast<double>(lines);
+}
+BENCHMARK(BM_SketchRgb)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+BENCHMARK(BM_SketchGround)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
 // A smooth probability field with zeros, like one pen of a photo.
 std::vector<float> field(int side) {
   std::vector<float> p(static_cast<size_t>(side) * side);
@@ -138,5 +165,6 @@ BENCHMARK(BM_PlacePoints_RandomBinarySearch)->RangeMultiplier(2)->Range(256, 204
 
 STIPPLOT_BENCH_MAIN({{"BM_SketchPhotoToSvg", "BM_SketchPhotoToSvg_RandomDraws"},
                      {"BM_SketchLink", "BM_SketchBlack"},
+                     {"BM_SketchGround", "BM_SketchRgb"},
                      {"BM_SolveM/2048", "BM_SolveM_Bisection/2048"},
                      {"BM_PlacePoints/2048", "BM_PlacePoints_RandomBinarySearch/2048"}})

@@ -1,4 +1,5 @@
 // stipplot sketch: colour sketches with real pens by point redistribution (seed 001).
+#include <cmath>
 #include <memory>
 
 #include "cli/commands.hpp"
@@ -32,6 +33,7 @@ struct SketchArgs {
   int max_pens = -1;  // not given
   bool separate = false;
   sketch::LinkParams link;
+  std::string ground = "auto";  // auto | hatch | none
 };
 
 // Options to parameters, before any work.
@@ -57,6 +59,8 @@ void resolve(SketchArgs& a) {
   if (a.preview_style != "pen") a.style = sketch::parse_preview_style(a.preview_style);
   require_range("--blur-cells", a.blur_cells, 0, 100);
   a.link.validate();
+  if (a.ground != "auto" && a.ground != "hatch" && a.ground != "none")
+    throw UserError("--ground: unknown style '" + a.ground + "' (use auto, hatch or none)");
   check_max_pens(a.max_pens, a.pens_file.empty() ? 0 : a.p.pens.size(), a.pens_file);
   a.p.validate();
 }
@@ -111,6 +115,69 @@ MethodResult draw(const SketchArgs& a, const MethodInput& in, std::shared_ptr<co
   if (a.max_pens > 0) report_pen_choice(choice, out);
   return out;
 }
+// Linked after thinning: the budget keeps a share k of the marks, and those are joined.
+// Linking saves pen lifts, so the thinned marks' time (k x the full drawing's)
+// over-predicts; the pilot at the first knob scales it.
+void link_scribbles(const SketchArgs& a, const MethodInput& in,
+                    const std::shared_ptr<const sketch::SketchResult>& result, MethodDraft& d) {
+  auto thinned = d.draw;
+  auto cache = std::make_shared<std::pair<double, MethodResult>>(-1, MethodResult{});
+  auto linked = [link = a.link, thinned, result, cache](double k) {
+    if (cache->first == k) return cache->second;
+    MethodResult r = thinned(k);
+    sketch::LinkStats st;
+    r.drawing = sketch::link_strokes(*result, r.drawing, std::clamp(k, 1e-6, 1.0), link, &st);
+    r.summary["linked"] = {{"strokes", st.strokes}, {"lines", st.lines}, {"links", st.links}, {"link_mm", st.link_mm}};
+    r.counts += ", linked into " + std::to_string(st.lines) + " lines";
+    *cache = {k, r};
+    return r;
+  };
+  auto scale = std::make_shared<double>(1.0);
+  auto predict = d.predict;
+  d.predict = [predict, scale](double k) { return *scale * predict(k); };
+  d.calibrate = [linked, predict, scale, &in](double k) {
+    const double thin_s = predict(k);
+    if (!(thin_s > 0)) return;
+    const double s = budget::quick_estimate_seconds(linked(k).drawing, in.costs.motion(), in.costs.plan_options());
+    *scale = std::clamp(s / thin_s, 0.01, 1.0);
+  };
+  d.draw = linked;
+}
+
+// The ground beneath the strokes: at knob k its fields hatched k as dense and the share
+// k^5 of the strokes over it, so a short budget goes to the tone first (a stroke is a pen
+// lift for a few millimetres of ink) and the full drawing comes back at k = 1. auto: only
+// where the strokes alone do not fit the budget (when the time allows it, the paper's
+// sketch). The time at k predicted as k of the ground's share of the full drawing's and
+// k^5 of the strokes'.
+MethodDraft ground_beneath(const SketchArgs& a, const MethodInput& in, const sketch::SketchResult& result,
+                           MethodDraft d) {
+  const budget::MarkCosts& c = in.costs;
+  auto strokes = d.draw;
+  const double strokes_s = budget::quick_estimate_seconds(strokes(1).drawing, c.motion(), c.plan_options());
+  if (a.ground == "auto" && (in.budget_s <= 0 || strokes_s <= in.budget_s)) return d;
+  std::vector<Pen> pens;
+  for (const auto& ps : result.pens) pens.push_back(ps.pen);
+  auto grid = std::make_shared<const hatch::PenGrid>(sketch::ground_grid(in.image, pens, in.placement));
+  constexpr double kStrokePower = 5;
+  auto draw = [strokes, grid, pens, &in](double k) {
+    const double kk = std::clamp(k, 1e-3, 1.0);
+    MethodResult r = strokes(std::pow(kk, kStrokePower));
+    Drawing g = sketch::ground_drawing(*grid, pens, in.placement, kk);
+    size_t lines = 0;
+    for (const Layer& l : g.layers) lines += l.lines.size();
+    // Each pen's ground first, its strokes over it (merge_layers_by_pen keeps the order).
+    for (Layer& l : r.drawing.layers) g.layers.push_back(std::move(l));
+    r.drawing.layers = std::move(g.layers);
+    r.summary["ground"] = {{"style", "hatch"}, {"coverage", kk}, {"lines", lines}};
+    r.counts += " over a hatched ground of " + std::to_string(lines) + " lines";
+    return r;
+  };
+  const double ground_s =
+      budget::quick_estimate_seconds(sketch::ground_drawing(*grid, pens, in.placement, 1), c.motion(), c.plan_options());
+  const double w = ground_s + strokes_s > 0 ? ground_s / (ground_s + strokes_s) : 1;
+  return scaled_density(in, draw, [w](double k) { return w * k + (1 - w) * std::pow(k, kStrokePower); });
+}
 }  // namespace
 
 void register_sketch(CLI::App& app) {
@@ -157,6 +224,12 @@ void register_sketch(CLI::App& app) {
   cmd->add_flag("--separate", args->separate,
                 "Draw every stroke on its own (a pen lift each) instead of linking a pen's strokes into scribbles")
       ->group("Strokes");
+  cmd->add_option("--ground", args->ground,
+                  "hatch: beneath the strokes, the photo's colour fields hatched a pen each (the tone in long "
+                  "pen-downs; a short --time thins the strokes first); none: the strokes on white paper (the paper's "
+                  "sketch); auto: hatch where the strokes alone take longer than --time")
+      ->capture_default_str()
+      ->group("Strokes");
   cmd->add_option("--link-length", args->link.lift_length,
                   "Join consecutive strokes of a pen, pen down, where the link is at most this many local spacings of "
                   "its marks ...")
@@ -181,33 +254,8 @@ void register_sketch(CLI::App& app) {
       [args](const MethodInput& in) {
         auto result = std::make_shared<std::shared_ptr<const sketch::SketchResult>>();
         MethodDraft d = thinned_density(in, [args, &in, result] { return draw(*args, in, result.get()); });
-        if (args->separate) return d;
-        // Linked after thinning: the budget keeps a share k of the marks, and those are
-        // joined. Linking saves pen lifts, so the thinned marks' time (k x the full
-        // drawing's) over-predicts; the pilot at the first knob scales it.
-        auto thinned = d.draw;
-        auto cache = std::make_shared<std::pair<double, MethodResult>>(-1, MethodResult{});
-        auto linked = [args, thinned, result, cache](double k) {
-          if (cache->first == k) return cache->second;
-          MethodResult r = thinned(k);
-          sketch::LinkStats st;
-          r.drawing = sketch::link_strokes(**result, r.drawing, std::clamp(k, 1e-6, 1.0), args->link, &st);
-          r.summary["linked"] = {{"strokes", st.strokes}, {"lines", st.lines}, {"links", st.links}, {"link_mm", st.link_mm}};
-          r.counts += ", linked into " + std::to_string(st.lines) + " lines";
-          *cache = {k, r};
-          return r;
-        };
-        auto scale = std::make_shared<double>(1.0);
-        auto predict = d.predict;
-        d.predict = [predict, scale](double k) { return *scale * predict(k); };
-        d.calibrate = [linked, predict, scale, &in](double k) {
-          const double thin_s = predict(k);
-          if (!(thin_s > 0)) return;
-          const double s = budget::quick_estimate_seconds(linked(k).drawing, in.costs.motion(), in.costs.plan_options());
-          *scale = std::clamp(s / thin_s, 0.01, 1.0);
-        };
-        d.draw = linked;
-        return d;
+        if (!args->separate) link_scribbles(*args, in, *result, d);
+        return args->ground == "none" ? d : ground_beneath(*args, in, **result, d);
       });
 }
 

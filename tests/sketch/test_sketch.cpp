@@ -432,3 +432,90 @@ TEST_CASE("sketch CLI: both spaces and a palette, one layer per pen, bad input r
   CHECK(help.exit_code == 0);
   CHECK(help.out.find("Example") != std::string::npos);
 }
+
+namespace {
+// Pen-down length of a drawing's lines with x in [x0, x1) on the page, per pen (each
+// segment cut into pieces of at most 0.05 mm, counted where their middle lies).
+std::map<std::string, double> ink_between(const Drawing& d, double x0, double x1) {
+  std::map<std::string, double> len;
+  for (const Layer& l : d.layers)
+    for (const Polyline& pl : l.lines)
+      for (size_t i = 1; i < pl.pts.size(); ++i) {
+        const Vec2 a = pl.pts[i - 1], b = pl.pts[i];
+        const double seg = std::hypot(b.x - a.x, b.y - a.y);
+        const int pieces = std::max(1, int(std::ceil(seg / 0.05)));
+        for (int k = 0; k < pieces; ++k) {
+          const double x = a.x + (b.x - a.x) * (k + 0.5) / pieces;
+          if (x >= x0 && x < x1) len[l.pen.name] += seg / pieces;
+        }
+      }
+  return len;
+}
+}  // namespace
+
+TEST_CASE("sketch ground, one pen: darker patches take more crossed lines, near-white none", "[sketch][ground]") {
+  // Near white, light grey, dark grey, black, then white: 5 patches of 60 px on 100 mm.
+  const Image img = patches({Color{240, 240, 240}, Color{200, 200, 200}, Color{110, 110, 110}, Color{0, 0, 0}}, 60);
+  Placement pl;
+  pl.page = {120, 40};
+  pl.margin_mm = 10;  // the image: 100 x 20 mm, 20 mm a patch
+  const std::vector<Pen> pens{Pen{"black", colors::black, 0.3}};
+  const hatch::PenGrid g = ground_grid(img, pens, pl);
+  REQUIRE(g.amount.size() == g.pen.size());
+  const Drawing d = ground_drawing(g, pens, pl, 0.5);
+  std::vector<double> ink;
+  for (int p = 0; p < 5; ++p) ink.push_back(ink_between(d, 10 + 20 * p + 4, 10 + 20 * p + 16)["black"]);
+  INFO("ink per patch (mm): " << ink[0] << " " << ink[1] << " " << ink[2] << " " << ink[3] << " " << ink[4]);
+  CHECK(ink[0] == 0);  // too light for one direction of lines: the paper's
+  CHECK(ink[1] > 0);
+  CHECK(ink[2] > 1.7 * ink[1]);  // two directions where light grey takes one
+  CHECK(ink[3] > 2.5 * ink[1]);  // three
+  CHECK(ink[4] == 0);
+  // More coverage, more lines: the budget's knob is monotone.
+  double total_lo = 0, total_hi = 0;
+  for (const auto& [pen, mm] : ink_between(ground_drawing(g, pens, pl, 0.3), 0, 200)) total_lo += mm;
+  for (const auto& [pen, mm] : ink_between(ground_drawing(g, pens, pl, 0.6), 0, 200)) total_hi += mm;
+  CHECK(total_hi > 1.8 * total_lo);
+}
+
+TEST_CASE("sketch ground, pens: each colour field takes its nearest pen, white the paper", "[sketch][ground]") {
+  const Image img = patches({Color{230, 20, 20}, Color{20, 20, 230}}, 60);
+  Placement pl;
+  pl.page = {80, 40};
+  pl.margin_mm = 10;  // 20 mm a patch: red, blue, white
+  const std::vector<Pen> pens{Pen{"red", Color{255, 0, 0}, 0.3}, Pen{"blue", Color{0, 0, 255}, 0.3},
+                              Pen{"black", colors::black, 0.3}};
+  const hatch::PenGrid g = ground_grid(img, pens, pl);
+  CHECK(g.amount.empty());
+  const Drawing d = ground_drawing(g, pens, pl, 0.5);
+  auto red = ink_between(d, 14, 26), blue = ink_between(d, 34, 46), white = ink_between(d, 54, 66);
+  CHECK(red["red"] > 100);
+  CHECK(red["blue"] == 0);
+  CHECK(blue["blue"] > 100);
+  CHECK(blue["red"] == 0);
+  CHECK(red["black"] + blue["black"] == 0);
+  CHECK(white.empty());
+}
+
+TEST_CASE("sketch --ground: a short --time lays the tone as hatching, a long one the strokes alone", "[sketch][ground][cli]") {
+  test::TempDir t;
+  const std::string img = std::string(STIPPLOT_SOURCE_DIR) + "/examples/coffee.png";
+  auto run = [&](const std::string& opts) {
+    auto r = test::run_cli("sketch " + img + " -o " + t.file("o.svg") + " --page A5 --landscape --measure --json " + opts);
+    INFO(opts << ": " << r.err);
+    REQUIRE(r.exit_code == 0);
+    return nlohmann::json::parse(r.out);
+  };
+  const auto ground = run("--time 10min"), bare = run("--time 10min --ground none"), slow = run("--time 100h");
+  REQUIRE(ground.contains("ground"));
+  CHECK(!bare.contains("ground"));
+  CHECK(!slow.contains("ground"));  // auto: the strokes alone fit
+  for (const auto* j : {&ground, &bare}) CHECK((*j)["plan"]["total"]["seconds"].get<double>() <= 600);
+  // Seen from arm's length the ground brings the colour nearer the photo's, and the picture.
+  CHECK(ground["delta_e_view"].get<double>() < bare["delta_e_view"].get<double>() - 5);
+  CHECK(ground["ssim_view"].get<double>() > bare["ssim_view"].get<double>());
+  auto bad = test::run_cli("sketch " + img + " -o " + t.file("bad.svg") + " --ground paint");
+  CHECK(bad.exit_code != 0);
+  CHECK(bad.err.find("--ground") != std::string::npos);
+  CHECK(!std::filesystem::exists(t.file("bad.svg")));
+}

@@ -1,6 +1,6 @@
 #include "methods/pointillism/pointillism.hpp"
 
-#include "methods/hatch/hatch_lines.hpp"
+#include "methods/hatch/pen_fields.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -273,76 +273,36 @@ Result paint(const Image& image, const Params& p) {
 namespace {
 
 // The ebauche as hatching per colour region: every cell (half a pen width) takes the pen
-// of its nearest ebauche circle (the paper counts as a pen: no ink), then the pen most
-// cells within `kModeMm` take, so neighbouring circles that dither between two pens make
-// one region, not a speckle a pen lift each. Each pen's region is hatched at its own
-// angle. O(circles r^2 + cells x pens).
-constexpr double kModeMm = 4.0;
-
+// of its nearest ebauche circle (the paper counts as a pen: no ink), and the fields are
+// hatched a pen each (hatch_pen_fields). O(circles r^2 + cells x pens).
 void hatch_ebauche(const std::vector<std::pair<Vec2, size_t>>& circles, size_t n_pens, double radius_mm,
                    const PageTransform& tf, int w, int h, double pen_mm, double coverage, std::vector<Layer>& layers) {
-  const double cell = pen_mm / 2;
+  hatch::PenGrid g;
+  g.cell_mm = pen_mm / 2;
+  const double cell = g.cell_mm;
   const Vec2 lo = tf.map(0, 0), hi = tf.map(w, h);
   const double x0 = std::min(lo.x, hi.x), y0 = std::min(lo.y, hi.y);
-  const int W = std::max(1, static_cast<int>(std::ceil(std::abs(hi.x - lo.x) / cell)));
-  const int H = std::max(1, static_cast<int>(std::ceil(std::abs(hi.y - lo.y) / cell)));
+  g.origin_mm = {x0, y0};
+  const int W = g.width = std::max(1, static_cast<int>(std::ceil(std::abs(hi.x - lo.x) / cell)));
+  const int H = g.height = std::max(1, static_cast<int>(std::ceil(std::abs(hi.y - lo.y) / cell)));
   const size_t n = static_cast<size_t>(W) * static_cast<size_t>(H);
-  constexpr uint8_t kNone = 255;  // no circle: bare paper
-  std::vector<uint8_t> pen(n, kNone);
+  g.pen.assign(n, hatch::PenGrid::kPaper);
   std::vector<float> best(n, std::numeric_limits<float>::infinity());
   const double rc = radius_mm / cell;
   for (const auto& [c, k] : circles) {
     const double cx = (c.x - x0) / cell, cy = (c.y - y0) / cell;
     const int ylo = std::max(0, static_cast<int>(std::floor(cy - rc))), yhi = std::min(H - 1, static_cast<int>(std::ceil(cy + rc)));
     const int xlo = std::max(0, static_cast<int>(std::floor(cx - rc))), xhi = std::min(W - 1, static_cast<int>(std::ceil(cx + rc)));
+    const uint8_t id = k >= n_pens ? hatch::PenGrid::kPaper : static_cast<uint8_t>(k);
     for (int y = ylo; y <= yhi; ++y)
       for (int x = xlo; x <= xhi; ++x) {
         const double dx = x + 0.5 - cx, dy = y + 0.5 - cy;
         const float d2 = static_cast<float>(dx * dx + dy * dy);
         const size_t i = static_cast<size_t>(y) * static_cast<size_t>(W) + static_cast<size_t>(x);
-        if (d2 <= rc * rc && d2 < best[i]) best[i] = d2, pen[i] = static_cast<uint8_t>(k);
+        if (d2 <= rc * rc && d2 < best[i]) best[i] = d2, g.pen[i] = id;
       }
   }
-  // The mode over a box of side 2 kModeMm: per pen (and the paper) a box-filtered count.
-  const int R = std::max(1, static_cast<int>(std::lround(kModeMm / cell)));
-  std::vector<float> top(n, -1.0f);
-  std::vector<uint8_t> mode(n, kNone);
-  cv::Mat ind(H, W, CV_32F), sum;
-  for (size_t k = 0; k <= n_pens; ++k) {
-    const uint8_t id = k == n_pens ? kNone : static_cast<uint8_t>(k);
-    bool any = false;
-    for (size_t i = 0; i < n; ++i) {
-      const bool in = pen[i] == id || (id == kNone && pen[i] == n_pens);
-      reinterpret_cast<float*>(ind.data)[i] = in ? 1.0f : 0.0f;
-      any |= in;
-    }
-    if (!any) continue;
-    cv::boxFilter(ind, sum, CV_32F, cv::Size(2 * R + 1, 2 * R + 1), cv::Point(-1, -1), false, cv::BORDER_CONSTANT);
-    const float* sp = reinterpret_cast<const float*>(sum.data);
-    for (size_t i = 0; i < n; ++i)
-      if (sp[i] > top[i]) top[i] = sp[i], mode[i] = id;
-  }
-  hatch::Mask mask;
-  mask.width = W;
-  mask.height = H;
-  static constexpr double kAngles[] = {45, 135, 0, 90, 22.5, 112.5, 67.5, 157.5};
-  for (size_t k = 0; k < n_pens; ++k) {
-    mask.in.assign(n, 0);
-    bool any = false;
-    for (size_t i = 0; i < n; ++i)
-      if (mode[i] == k) mask.in[i] = 1, any = true;
-    if (!any) continue;
-    hatch::LineSet set;
-    set.angle_deg = kAngles[k % (sizeof kAngles / sizeof kAngles[0])];
-    set.spacing = 1.8 / coverage;  // 0.9 pen widths at full coverage
-    set.link = std::max(10.0, 1.5 * set.spacing);
-    for (auto& line : hatch::hatch_mask(mask, set)) {
-      Polyline pl;
-      pl.pts.reserve(line.size());
-      for (const Vec2& v : line) pl.pts.push_back({x0 + v.x * cell, y0 + v.y * cell});
-      layers[k].lines.push_back(std::move(pl));
-    }
-  }
+  hatch::hatch_pen_fields(g, n_pens, pen_mm, coverage, layers);
 }
 
 }  // namespace

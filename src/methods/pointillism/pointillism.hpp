@@ -110,10 +110,10 @@ Result paint(const Image& image, const Params& params);
 // O(dots + distinct colours * pens).
 // With pens, `o` may lay the ebauche as hatching per colour field instead: each cell (half a
 // pen width) takes the pen of its nearest ebauche circle, then the pen most cells within
-// 4 mm take, and each pen's field is filled by parallel lines linked into zig-zags
-// (src/methods/hatch/hatch_lines.hpp) at the pen's own angle: a few long pen-downs where
-// the circles took a pen lift each; lines 0.9 pen widths apart (solid, as the circles'
-// fill) over `coverage`. `stroke_share` keeps that share of the divided strokes' circles,
+// 4 mm take, and each pen's field is filled by parallel lines linked into zig-zags at the
+// pen's own angle (hatch_pen_fields, src/methods/hatch/pen_fields.hpp): a few long
+// pen-downs where the circles took a pen lift each; lines 0.9 pen widths apart (solid, as
+// the circles' fill) over `coverage`. `stroke_share` keeps that share of the divided strokes' circles,
 // evenly spread. O(circles r^2 + pens x cells) more.
 struct PlaceOptions {
   bool hatch_ebauche = false;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "methods/palette.hpp"
 #include "methods/sketch/redistribution.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
@@ -431,6 +432,79 @@ Image render_sketch_preview(const SketchResult& r, double dpi, PreviewStyle styl
     }
   }
   return im;
+}
+
+namespace {
+constexpr double kGroundToneMm = 1.0;  // the blur of the amounts, on paper
+}  // namespace
+
+hatch::PenGrid ground_grid(const Image& image, const std::vector<Pen>& pens, const Placement& placement) {
+  hatch::PenGrid g;
+  if (pens.empty() || pens.size() + 1 >= hatch::PenGrid::kPaper || image.width <= 0 || image.height <= 0) return g;
+  const PageTransform tf = placement.transform(image.width, image.height);
+  g.cell_mm = placement.pen_width_mm / 2;
+  const Vec2 lo = tf.map(0, 0), hi = tf.map(image.width, image.height);
+  g.origin_mm = lo;
+  g.width = std::max(1, static_cast<int>(std::ceil((hi.x - lo.x) / g.cell_mm)));
+  g.height = std::max(1, static_cast<int>(std::ceil((hi.y - lo.y) / g.cell_mm)));
+  const Image cells = resize_to(image, g.width, g.height);
+  g.pen.resize(cells.pixels());
+  if (pens.size() > 1) {
+    // The fields' colours carry the tone: each cell the nearest pen, or the paper.
+    std::vector<Pen> candidates = pens;
+    candidates.push_back(Pen{"paper", colors::white, 0});
+    PenMatcher match(candidates);
+    // A field's pen, not a pixel's: colours to 5 bits a channel (32,768 answers at most,
+    // where a photo's cells have hundreds of thousands of colours, each 9 CIEDE2000s).
+    constexpr uint8_t kUnknown = 254;
+    std::vector<uint8_t> answer(32768, kUnknown);
+    for (size_t i = 0; i < g.pen.size(); ++i) {
+      const uint8_t* c = &cells.rgb[3 * i];
+      const size_t key = (size_t{c[0]} >> 3) << 10 | (size_t{c[1]} >> 3) << 5 | (size_t{c[2]} >> 3);
+      if (answer[key] == kUnknown) {
+        const auto mid = [](uint8_t v) { return static_cast<uint8_t>((v & 0xf8) | 4); };
+        const size_t k = match.nearest(Color{mid(c[0]), mid(c[1]), mid(c[2])});
+        answer[key] = k >= pens.size() ? hatch::PenGrid::kPaper : static_cast<uint8_t>(k);
+      }
+      g.pen[i] = answer[key];
+    }
+    return g;
+  }
+  // One pen: its lines' density is the only tone there is. Each cell wants the share of
+  // the way from the paper to the pen that its colour lies (RGB, projected); one too
+  // light for a direction of lines is the paper's.
+  const Color p = pens[0].color;
+  const double d[3] = {255.0 - p.r, 255.0 - p.g, 255.0 - p.b};
+  const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  g.amount.resize(cells.pixels());
+  for (size_t i = 0; i < g.pen.size(); ++i) {
+    const uint8_t* c = &cells.rgb[3 * i];
+    const double e[3] = {255.0 - c[0], 255.0 - c[1], 255.0 - c[2]};
+    g.amount[i] = dd > 0 ? static_cast<float>(std::clamp((d[0] * e[0] + d[1] * e[1] + d[2] * e[2]) / dd, 0.0, 1.0)) : 0.0f;
+  }
+  // The tone as seen from a step away: what the directions follow, not the grain.
+  cv::Mat amount(g.height, g.width, CV_32F, g.amount.data());
+  const double sigma = kGroundToneMm / g.cell_mm;
+  cv::GaussianBlur(amount, amount, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+  for (size_t i = 0; i < g.pen.size(); ++i)
+    g.pen[i] = g.amount[i] * hatch::kFieldDirections < 0.5 ? hatch::PenGrid::kPaper : 0;
+  return g;
+}
+
+Drawing ground_drawing(const hatch::PenGrid& grid, const std::vector<Pen>& pens, const Placement& placement,
+                       double coverage) {
+  Drawing d;
+  const PageTransform tf = placement.transform(1, 1);
+  d.page.width_mm = tf.page_w();
+  d.page.height_mm = tf.page_h();
+  std::vector<Layer> layers(pens.size());
+  if (!grid.pen.empty()) hatch::hatch_pen_fields(grid, pens.size(), placement.pen_width_mm, coverage, layers);
+  for (size_t k = 0; k < pens.size(); ++k) {
+    if (layers[k].lines.empty()) continue;
+    layers[k].pen = pens[k];
+    d.layers.push_back(std::move(layers[k]));
+  }
+  return d;
 }
 
 }  // namespace stipplot::sketch

@@ -25,6 +25,7 @@
 
 #include "geometry/drawing.hpp"
 #include "image/image.hpp"
+#include "methods/hatch/pen_fields.hpp"
 #include "methods/placement.hpp"
 
 namespace stipplot::sketch {
@@ -104,6 +105,17 @@ SketchResult sketch_strokes(const Image& image, const SketchParams& params, cons
 // The Drawing to plot: one layer per pen with its plotted strokes (empty pens dropped),
 // light pens before dark (merge_layers_by_pen).
 Drawing to_drawing(const SketchResult& r);
+
+// The ground under the strokes (sketch --ground hatch): the photo's colour fields laid as
+// hatching, a pen each, as pointillism lays its ebauche, so the hour's ink reaches the
+// photo's tone where scattered strokes leave the page light. Each cell of half a pen width
+// over the image's rectangle takes the pen nearest (CIEDE2000) the photo's colour there,
+// the paper counting as a pen (no ink). O(input pixels + cells).
+hatch::PenGrid ground_grid(const Image& image, const std::vector<Pen>& pens, const Placement& placement);
+// The fields hatched at `coverage` (0, 1] (hatch_pen_fields), a layer per pen that has
+// one, named as the pen. O(cells x pens + the lines).
+Drawing ground_drawing(const hatch::PenGrid& grid, const std::vector<Pen>& pens, const Placement& placement,
+                       double coverage);
 
 // Pure function image + parameters -> Drawing.
 Drawing sketch(const Image& image, const SketchParams& params, const Placement& placement);
