@@ -676,6 +676,7 @@ void register_plot(CLI::App& app) {
   cmd->add_option("--margin", a->layout.margin, "SVG: margin kept by --fit and --align (a length)")
       ->capture_default_str()->group("Layout");
   add_pen_height_options(cmd, a->heights);
+  add_ebb_moves_option(cmd, a->heights);
   add_plan_options(cmd, a->plan);
   cmd->callback([a, rx, hs, fl, pg] {
     a->rx_buffer_given = rx->count() > 0;
