@@ -150,13 +150,13 @@ TEST_CASE("EBB firmware draws a small stipple on axidraw-minikit as planned, in 
 }
 
 TEST_CASE("A long job of many LM moves ends exactly on its planned step position on the firmware, in its time", "[ebb]") {
-  // 3,000 random pen-up hops and strokes of 0.01 to 40 mm, each from rest to rest, as the
+  // 1,000 random hops and jittery strokes (segments of 0.01 to 0.6 mm), each from rest to rest, as the
   // writer cuts them: the firmware's counters must end where the last point rounds to.
   test::TempDir t;
   const stipplot::DeviceProfile p = stipplot::find_profile("axidraw-v3");
   const stipplot::motion::EbbGeometry g{80};
   std::mt19937_64 rng(11);
-  std::uniform_real_distribution<double> coord(0, 150), jitter(-0.3, 0.3);
+  std::uniform_real_distribution<double> coord(0, 60), jitter(-0.3, 0.3);
   stipplot::motion::MotorSteps at{0, 0};
   int64_t clock = 0;
   std::vector<stipplot::motion::MotionBlock> blocks;
@@ -164,13 +164,13 @@ TEST_CASE("A long job of many LM moves ends exactly on its planned step position
   std::string job = "EM,1,1\n";
   stipplot::Vec2 here{0, 0};
   size_t lms = 0;
-  for (int i = 0; i < 3000; ++i) {
+  for (int i = 0; i < 1000; ++i) {
     std::vector<stipplot::Vec2> pts{here};
     const int n = 1 + i % 4;
     for (int k = 0; k < n; ++k) {
       const stipplot::Vec2 q = i % 5 == 0 ? stipplot::Vec2{coord(rng), coord(rng)}
-                                          : stipplot::Vec2{std::clamp(pts.back().x + jitter(rng) * (k + 1), 0.0, 150.0),
-                                                           std::clamp(pts.back().y + jitter(rng), 0.0, 150.0)};
+                                          : stipplot::Vec2{std::clamp(pts.back().x + jitter(rng) * (k + 1), 0.0, 60.0),
+                                                           std::clamp(pts.back().y + jitter(rng), 0.0, 60.0)};
       pts.push_back(q);
     }
     moves.clear();
@@ -323,7 +323,19 @@ TEST_CASE("The board's PRG button pauses a plot as axicli's does, and plot --res
   CHECK(std::count(first.err.begin(), first.err.end(), '\n') == 1);
   resume_to_end(e.job, board.port(), first.err);
   board.finish();
-  check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));
+  // The first QB goes out once the first move is answered; an LM job's travel to its first
+  // stroke is a few commands, so the stop may come inside that stroke: the pen lifts there
+  // and the resume lowers it again, one mark in two pieces. Judged as ink: every point of
+  // the job's pen-down paths within a step of ink and no ink off them, the pen-down steps
+  // the job's exactly (nothing drawn twice), back home.
+  const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
+  const auto planned = ebbtest::job_marks(e.job, 80);
+  CHECK(ebbtest::farthest(planned, log.marks, 0.01, 0.5).worst <= kStep);
+  CHECK(ebbtest::farthest(log.marks, planned, 0.01, 0.5).worst <= kStep);
+  CHECK(log.down_steps == ebbtest::job_down_steps(e.job));
+  CHECK(log.marks.size() <= planned.size() + 1);
+  CHECK(log.m1 == 0);
+  CHECK(log.m2 == 0);
 }
 
 TEST_CASE("A plot resumed twice (the link dropped at 30 % and again at 70 %) still draws each mark once", "[ebb]") {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <random>
+#include <thread>
 
 #include "drivers/device/profile.hpp"
 #include "drivers/job/ebb_reader.hpp"
@@ -11,6 +12,7 @@
 #include "drivers/motion/ebb_motion.hpp"
 #include "drivers/stream/ebb/streamer.hpp"
 #include "drivers/transport/devices.hpp"
+#include "drivers/transport/loopback.hpp"
 #include "drivers/writers/ebb_writer.hpp"
 #include "util/error.hpp"
 
@@ -300,6 +302,34 @@ TEST_CASE("EBB job reader tracks motors, pen and the firmware's time", "[ebb]") 
   // (llabs of the smallest long long) and overflowed the step sums.
   CHECK_THROWS_WITH(io::parse_ebb_job("SM,21,-77777777777777777777777777,0\n", 80), Catch::Contains("out of range"));
   CHECK_THROWS_WITH(io::parse_ebb_job("SM,21,0,9223372036854775807\n", 80), Catch::Contains("out of range"));
+}
+
+TEST_CASE("An LM job is refused in one line on EBB firmware before 2.7, before anything moves", "[ebb]") {
+  auto [host, board] = io::make_pipe();
+  // A 2.6 board: it answers V, and the test reads whatever else the host sends.
+  std::string heard;
+  std::thread fw([&, board = board] {
+    char buf[256];
+    std::string in;
+    for (;;) {
+      const long n = board->read(buf, sizeof buf, std::chrono::milliseconds(2000));
+      if (n <= 0) return;
+      in.append(buf, static_cast<size_t>(n));
+      for (size_t eol; (eol = in.find('\r')) != std::string::npos; in.erase(0, eol + 1)) {
+        const std::string cmd = in.substr(0, eol);
+        heard += cmd + ";";
+        board->write(cmd == "V" ? "EBBv13_and_above EB Firmware Version 2.6.5\r\n" : "OK\r\n");
+      }
+    }
+  });
+  io::LoopbackTransport t(host);
+  io::ebb::Streamer s(t, io::ebb::Options{});
+  s.connect();
+  const io::Job job = io::parse_ebb_job("EM,1,1\nSP,1,130\nLM,1000000,100,0,0,0,0,3\n", 80);
+  CHECK_THROWS_WITH(s.stream(job, 0, {}, nullptr), Catch::Contains("2.7 or later") && Catch::Contains("moves = \"sm\""));
+  t.close();
+  fw.join();
+  CHECK(heard == "V;");  // nothing of the job was sent
 }
 
 TEST_CASE("EBB firmware versions: 2.5 to 3.x, and what is not an EBB", "[ebb]") {
