@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <vector>
 
 namespace stipplot::motion {
 
@@ -28,11 +27,11 @@ std::string sm_command(const EbbMove& m) {
 
 namespace {
 
-__extension__ typedef __int128 Wide;
+__extension__ typedef __int128 Wide;  // an LM's accumulator sums pass 2^63 (ticks^2 * accel)
 
 // A block becomes one LM ramp when its ends' speeds jump by at most this share of its
 // peak speed (or what its acceleration gives in a millisecond) for it.
-constexpr double kOneRampJump = 0.05;  // an LM's accumulator sums pass 2^63 (ticks^2 * accel)
+constexpr double kOneRampJump = 0.05;
 
 // What one motor of a cleared LM has accumulated after n ticks. O(1).
 Wide lm_accumulated(int64_t r, int64_t a, int64_t n) {
@@ -73,6 +72,7 @@ int64_t lm_motor_ticks(int64_t steps, int64_t r, int64_t a) {
     hi = static_cast<int64_t>((goal + first - 1) / first);  // at the first tick's rate, the slowest
     // ... and by the accel alone (acc >= a n^2 / 2), which keeps n^2 * a within 128 bits.
     if (a > 0) hi = std::min(hi, static_cast<int64_t>(std::sqrt(2 * static_cast<double>(goal) / static_cast<double>(a))) + 2);
+    while (lm_accumulated(r, a, hi) < goal) hi *= 2;  // a negative r: the bound is the accel's alone
   }
   int64_t lo = 1;  // binary search for the first tick that holds every step: O(log ticks)
   while (lo < hi) {
@@ -192,22 +192,23 @@ void lm_blocks(const std::vector<MotionBlock>& blocks, const EbbGeometry& g, dou
     struct Phase {
       double end_s, v_start, v_end;
     };
-    std::vector<Phase> phases{{t1, v0, vp}, {T - t3, vp, vp}, {T, vp, v1}};
+    std::array<Phase, 3> phases{{{t1, v0, vp}, {T - t3, vp, vp}, {T, vp, v1}}};
+    size_t count = phases.size();
     // A block one ramp from entry to exit speed follows closely (a short one between
     // corners of nearly its cruise speed, as in a spiral of short segments) is one LM: its
     // mean speed scales the ramp by k, so the speeds at its ends jump by |k - 1| of theirs.
     const double ramp_mean = (v0 + v1) / 2;
     if (T > 0 && ramp_mean > 0) {
       const double jump = std::fabs(L / T / ramp_mean - 1) * std::max(v0, v1);
-      if (jump <= std::max(kOneRampJump * vp, a * 0.001)) phases = {{T, v0, v1}};
+      if (jump <= std::max(kOneRampJump * vp, a * 0.001)) phases[0] = {T, v0, v1}, count = 1;
     }
     double start = 0;
-    for (size_t k = 0; k < phases.size(); ++k) {
+    for (size_t k = 0; k < count; ++k) {
       const Phase& ph = phases[k];
-      if (k + 1 < phases.size() && !(ph.end_s > start)) continue;  // no such phase (a triangle, no ramp)
+      if (k + 1 < count && !(ph.end_s > start)) continue;  // no such phase (a triangle, no ramp)
       start = ph.end_s;
-      const double s = k + 1 < phases.size() ? block_distance(b, a, ph.end_s) : L;
-      const MotorSteps target = k + 1 < phases.size() ? g.steps({b.from.x + u.x * s, b.from.y + u.y * s}) : g.steps(b.to);
+      const double s = k + 1 < count ? block_distance(b, a, ph.end_s) : L;
+      const MotorSteps target = k + 1 < count ? g.steps({b.from.x + u.x * s, b.from.y + u.y * s}) : g.steps(b.to);
       const int64_t s1 = target[0] - at[0], s2 = target[1] - at[1];
       if (s1 == 0 && s2 == 0) continue;  // less than a step: its time goes to the next phase
       const int64_t ticks = std::llround((t0 + b.start_s + ph.end_s) * tps) - clock_ticks;
