@@ -291,6 +291,8 @@ EbbSetup read_ebb(Section s) {
   e.servo_move_slope_ms = s.number("servo_move_slope_ms", 0, 1000);
   e.servo_pwm_period = s.number("servo_pwm_period", 0.001, 100);
   e.time_slice_ms = s.integer("time_slice_ms", 1, 1000);
+  if (s.has("moves"))
+    e.moves = s.choice<motion::EbbMoveKind>("moves", {{"lm", motion::EbbMoveKind::lm}, {"sm", motion::EbbMoveKind::sm}});
   e.fifo_commands = s.integer("fifo_commands", 1, 32);  // the firmware's COMMAND_FIFO_MAX_LENGTH
   s.finish();
   return e;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "drivers/motion/ebb_motion.hpp"
 #include "drivers/motion/motion_params.hpp"
 #include "drivers/transport/transport.hpp"
 
@@ -69,14 +70,17 @@ struct PenSetup {
 // = x - y, AxiDraw's belt layout) at `steps_per_mm` motor steps per mm of each sum (80 at
 // 16x microstepping: 2032 steps/inch, axidraw_conf's native_res_factor 1016 x 2); the
 // servo's pulse range in 1/12 µs units and its timing constants (axidraw_conf.py);
-// moves cut into constant-rate SM commands of at most `time_slice_ms`; the firmware's
-// motion FIFO lengthened to `fifo_commands` (CU,4; v3.x only).
+// moves as the firmware's accelerating LM commands (`moves = "lm"`, the default: one a
+// speed ramp, firmware 2.7+) or constant-rate SM commands of at most `time_slice_ms`
+// (`moves = "sm"`, any firmware); the motion FIFO lengthened to `fifo_commands` (CU,4;
+// v3.x only).
 struct EbbSetup {
   double steps_per_mm = 80;
   int servo_min = 9855, servo_max = 27831;
   double servo_sweep_ms = 200, servo_move_min_ms = 45, servo_move_slope_ms = 2.69;
   double servo_pwm_period = 0.24;  // axicli's rate scale: range * period / sweep per % of rate
   int time_slice_ms = 25;
+  motion::EbbMoveKind moves = motion::EbbMoveKind::lm;
   int fifo_commands = 32;
   double max_step_rate_hz = 25000;  // the 25 kHz motion interrupt: one step per tick
 };

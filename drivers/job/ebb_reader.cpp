@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 
+#include "drivers/motion/ebb_motion.hpp"
 #include "util/error.hpp"
 
 namespace stipplot::io {
@@ -31,6 +32,8 @@ std::string ebb_command_name(std::string_view text) {
   for (char ch : text.substr(0, text.find(','))) n += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
   return n;
 }
+
+bool ebb_motion_command(std::string_view name) { return name == "SM" || name == "LM"; }
 
 EbbCommand parse_ebb_command(std::string_view text, size_t line_no) {
   auto fail = [&](const std::string& why) -> EbbCommand {
@@ -59,6 +62,17 @@ EbbCommand parse_ebb_command(std::string_view text, size_t line_no) {
     if (std::llabs(c.s1) > 25 * c.ms || std::llabs(c.s2) > 25 * c.ms)
       return fail("steps faster than the firmware's 25 per ms");
     if (c.s1 == 0 && c.s2 == 0 && c.ms > 100000) return fail("a delay SM lasts at most 100000 ms");
+    c.ticks = c.ms * 25;
+  } else if (c.name == "LM") {
+    if (n != 6 && n != 7) return fail("LM takes a rate, steps and accel for each motor, and an optional clear");
+    motion::EbbMove m;
+    m.lm = true;
+    m.r1 = c.args[0], m.s1 = c.args[1], m.a1 = c.args[2], m.r2 = c.args[3], m.s2 = c.args[4], m.a2 = c.args[5];
+    if (n == 7 && (c.args[6] < 0 || c.args[6] > 3)) return fail("an LM's clear is 0 to 3");
+    if (!motion::lm_ok(m))
+      return fail("an LM must move, within 32-bit terms, its rate in (0, 2^31) until its last step (not stalling or reversing)");
+    c.s1 = m.s1, c.s2 = m.s2;
+    c.ticks = motion::lm_ticks(m);
   } else if (c.name == "SP") {
     if (n < 1 || n > 3 || c.args[0] < 0 || c.args[0] > 1)
       return fail("SP takes 0 (down) or 1 (up), a delay and a pin");
@@ -66,10 +80,11 @@ EbbCommand parse_ebb_command(std::string_view text, size_t line_no) {
     c.ms = n >= 2 ? c.args[1] : 0;
     if (c.ms < 0 || c.ms > 65535) return fail("an SP delay is 0 to 65535 ms");
     if (n == 3 && (c.args[2] < 0 || c.args[2] > 7)) return fail("an SP pin is 0 to 7 (port B)");
+    c.ticks = c.ms * 25;
   } else if (c.name == "EM" || c.name == "SC" || c.name == "CU") {
     if (n < 1 || n > 2) return fail(c.name + " takes one or two numbers");
   } else {
-    return fail("a job holds only SM, SP, EM, SC and CU commands");
+    return fail("a job holds only SM, LM, SP, EM, SC and CU commands");
   }
   return c;
 }
@@ -99,7 +114,7 @@ Job parse_ebb_job(const std::string& text, double spm) {
       }
     } else {
       const EbbCommand c = parse_ebb_command(l, line_no);
-      if (c.name == "SM") {
+      if (ebb_motion_command(c.name)) {
         m1 += c.s1, m2 += c.s2;
         jl.motion = c.s1 != 0 || c.s2 != 0;
       } else if (c.name == "SP") {

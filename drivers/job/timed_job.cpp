@@ -8,6 +8,7 @@
 
 #include "drivers/job/gcode_state.hpp"
 #include "drivers/job/hpgl_reader.hpp"
+#include "drivers/motion/ebb_motion.hpp"
 
 namespace stipplot::io {
 
@@ -168,18 +169,19 @@ void EbbTimer::feed(std::string_view line, bool host_only, bool pause) {
   if (pause) ++t_.pauses;
   if (!host_only) {
     const EbbCommand c = parse_ebb_command(line, t_.done_s.size() + 1);
-    const bool move = c.name == "SM" && (c.s1 != 0 || c.s2 != 0);
-    if (move && t_.motion_start_s < 0) t_.motion_start_s = static_cast<double>(now_ms_) / 1000;
-    if (move && !moving_) t_.starts_from_rest.push_back(static_cast<double>(now_ms_) / 1000);
-    if (c.name == "SM" || c.name == "SP") {
+    const bool move = ebb_motion_command(c.name) && (c.s1 != 0 || c.s2 != 0);
+    const double now = static_cast<double>(now_ticks_) / motion::kEbbTicksPerS;
+    if (move && t_.motion_start_s < 0) t_.motion_start_s = now;
+    if (move && !moving_) t_.starts_from_rest.push_back(now);
+    if (ebb_motion_command(c.name) || c.name == "SP") {
       if (moving_ && !move) ++t_.stops;
       moving_ = move;
     }
-    now_ms_ += c.ms;
-    if (move) t_.motion_end_s = static_cast<double>(now_ms_) / 1000;
+    now_ticks_ += c.ticks;
+    if (move) t_.motion_end_s = static_cast<double>(now_ticks_) / motion::kEbbTicksPerS;
   }
-  t_.done_s.push_back(static_cast<double>(now_ms_) / 1000);
-  t_.total_s = static_cast<double>(now_ms_) / 1000;
+  t_.done_s.push_back(static_cast<double>(now_ticks_) / motion::kEbbTicksPerS);
+  t_.total_s = static_cast<double>(now_ticks_) / motion::kEbbTicksPerS;
 }
 
 JobTiming time_ebb_job(const Job& job) {

@@ -78,8 +78,10 @@ class HpglTimer {
 };
 
 // EiBotBoard commands, one line at a time: the firmware runs its FIFO back to back, so a
-// line is done when every SM before it has run its milliseconds and every SP its delay
-// (a host that keeps the FIFO full, as the EBB streamer does). O(1) per line.
+// line is done when every SM before it has run its milliseconds, every LM its ticks to its
+// last step (the firmware's own integer arithmetic, lm_ticks) and every SP its delay (a
+// host that keeps the FIFO full, as the EBB streamer does). O(1) per line (O(log ticks)
+// for an LM).
 class EbbTimer {
  public:
   void feed(std::string_view line, bool host_only = false, bool pause = false);
@@ -88,7 +90,7 @@ class EbbTimer {
 
  private:
   JobTiming t_;
-  int64_t now_ms_ = 0;
+  int64_t now_ticks_ = 0;  // the firmware's 40 µs motion ticks
   bool moving_ = false;
 };
 

@@ -49,12 +49,14 @@ class EbbJobWriter {
  private:
   void pen(bool down) { sink_(ebb_pen_command(pen_, down)); }
 
-  // The polyline from rest to rest, timed by the planner's model and cut into SMs.
+  // The polyline from rest to rest, timed by the planner's model and cut into LMs (a
+  // phase of its speed ramps each) or SMs, as the profile's [ebb] moves says.
   void move(const std::vector<Vec2>& pts, double vmax) {
     if (pts.size() < 2) return;
     moves_.clear();
-    motion::polyline_moves(pts, vmax, p_.motion, geo_, p_.ebb.time_slice_ms, at_, clock_ms_, blocks_, moves_);
-    for (const motion::EbbMove& m : moves_) sink_(motion::sm_command(m));
+    motion::polyline_moves(pts, vmax, p_.motion, geo_, {p_.ebb.moves, p_.ebb.time_slice_ms}, at_, clock_ticks_, blocks_,
+                           moves_);
+    for (const motion::EbbMove& m : moves_) sink_(motion::ebb_command(m));
   }
 
   const Plan& plan_;
@@ -64,7 +66,7 @@ class EbbJobWriter {
   motion::EbbGeometry geo_;
   EbbPen pen_;
   motion::MotorSteps at_{0, 0};
-  int64_t clock_ms_ = 0;
+  int64_t clock_ticks_ = 0;  // the job's motion clock, 25 a millisecond
   std::vector<motion::MotionBlock> blocks_;
   std::vector<motion::EbbMove> moves_;
 };

@@ -61,6 +61,7 @@ void register_export(CLI::App& app) {
   cmd->add_option("--pen-width", args->pen_width, "Pen width where the SVG gives no stroke width: mm (0.3, 0.3mm), cm, in, pt or px (1/96 in)")
       ->capture_default_str()->group("Input");
   add_pen_height_options(cmd, args->heights, "Output");
+  add_ebb_moves_option(cmd, args->heights, "Output");
   add_plan_options(cmd, args->plan);
   add_layout_options(cmd, args->layout, true);
   cmd->callback([args] {

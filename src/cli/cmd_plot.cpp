@@ -82,6 +82,8 @@ struct PlotArgs {
     heights.check();
     if (!resume.empty() && heights.any_given())
       throw UserError("--pos-up/--pos-down apply to an SVG drawing; a resumed job keeps its own servo settings");
+    if (!resume.empty() && heights.moves_opt && heights.moves_opt->count() > 0)
+      throw UserError("--ebb-moves applies to an SVG drawing; a resumed job keeps its own moves");
     // A USB bulk endpoint has no line settings: refuse them rather than drop them.
     if (port.rfind("usb:", 0) == 0 && (baud > 0 || flow_given))
       throw UserError("--port " + port + " is a USB bulk endpoint (libusb): it has no baud rate or flow control; " +
@@ -676,6 +678,7 @@ void register_plot(CLI::App& app) {
   cmd->add_option("--margin", a->layout.margin, "SVG: margin kept by --fit and --align (a length)")
       ->capture_default_str()->group("Layout");
   add_pen_height_options(cmd, a->heights);
+  add_ebb_moves_option(cmd, a->heights);
   add_plan_options(cmd, a->plan);
   cmd->callback([a, rx, hs, fl, pg] {
     a->rx_buffer_given = rx->count() > 0;

@@ -17,6 +17,12 @@ void PenHeightArgs::check() const {
 }
 
 void PenHeightArgs::apply(DeviceProfile& p) const {
+  if (given(moves_opt)) {
+    if (p.protocol != Protocol::ebb)
+      throw UserError("--ebb-moves sets how an EiBotBoard plotter's moves are written; profile " + p.name + " is not one (protocol " +
+                      to_string(p.protocol) + ")");
+    p.ebb.moves = moves == "sm" ? motion::EbbMoveKind::sm : motion::EbbMoveKind::lm;
+  }
   if (!any_given()) return;
   check();
   if (p.protocol != Protocol::ebb)
@@ -34,6 +40,14 @@ void add_pen_height_options(CLI::App* cmd, PenHeightArgs& a, const std::string& 
     a.up_opt->group(group);
     a.down_opt->group(group);
   }
+}
+
+void add_ebb_moves_option(CLI::App* cmd, PenHeightArgs& a, const std::string& group) {
+  a.moves_opt = cmd->add_option("--ebb-moves", a.moves,
+                                "EBB: the moves a job is written in: lm (the firmware's accelerating moves, 2.7+) or sm "
+                                "(constant-rate slices, any firmware); the profile's [ebb] moves unless given")
+                    ->check(CLI::IsMember({"lm", "sm"}));
+  if (!group.empty()) a.moves_opt->group(group);
 }
 
 }  // namespace stipplot::cli

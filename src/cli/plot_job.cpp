@@ -72,6 +72,9 @@ PreparedJob prepare_job(const PlotJobRequest& r) {
     if (r.heights.any_given())
       throw UserError("--pos-up/--pos-down apply to an SVG drawing; " + r.input +
                       " is a finished job with its own servo settings (export it again with them)");
+    if (r.heights.moves_opt && r.heights.moves_opt->count() > 0)
+      throw UserError("--ebb-moves applies to an SVG drawing; " + r.input +
+                      " is a finished job with its own moves (export it again with --ebb-moves)");
     return {r.input, dialect_of(r.input), r.profile, {}};
   }
   if (!has_extension(r.input, ".svg"))

@@ -131,6 +131,15 @@ std::string run_job_file(const std::string& job_path, const std::string& log) {
   return slurp(out_path);
 }
 
+namespace {
+// A move's motor steps: an SM's or an LM's (LM,<r1>,<s1>,<a1>,<r2>,<s2>,<a2>[,clear]).
+bool move_steps(const std::string& l, long long& s1, long long& s2) {
+  long long a = 0, r = 0, c = 0, d = 0;
+  if (std::sscanf(l.c_str(), "SM,%lld,%lld,%lld", &a, &s1, &s2) == 3) return true;
+  return std::sscanf(l.c_str(), "LM,%lld,%lld,%lld,%lld,%lld,%lld", &r, &s1, &a, &c, &s2, &d) == 6;
+}
+}  // namespace
+
 std::vector<Path> job_marks(const std::string& job_path, double spm) {
   std::vector<Path> out;
   std::istringstream job(slurp(job_path));
@@ -139,8 +148,8 @@ std::vector<Path> job_marks(const std::string& job_path, double spm) {
   bool down = false;
   auto here = [&] { return Pt{static_cast<double>(m1 + m2) / (2 * spm), static_cast<double>(m1 - m2) / (2 * spm)}; };
   while (std::getline(job, l)) {
-    long long a = 0, b = 0, c = 0;
-    if (std::sscanf(l.c_str(), "SM,%lld,%lld,%lld", &a, &b, &c) == 3) {
+    long long b = 0, c = 0;
+    if (move_steps(l, b, c)) {
       m1 += b, m2 += c;
       if (down && (b || c)) out.back().push_back(here());
     } else if (l.rfind("SP,0", 0) == 0 && !down) {
@@ -161,8 +170,8 @@ size_t job_down_steps(const std::string& job_path) {
   bool down = false;
   size_t n = 0;
   while (std::getline(job, l)) {
-    long long a = 0, b = 0, c = 0;
-    if (std::sscanf(l.c_str(), "SM,%lld,%lld,%lld", &a, &b, &c) == 3 && down) n += static_cast<size_t>(std::llabs(b) + std::llabs(c));
+    long long b = 0, c = 0;
+    if (move_steps(l, b, c) && down) n += static_cast<size_t>(std::llabs(b) + std::llabs(c));
     if (l.rfind("SP,0", 0) == 0) down = true;
     if (l.rfind("SP,1", 0) == 0) down = false;
   }

@@ -49,9 +49,9 @@ std::string run_job_file(const std::string& job_path, const std::string& log);
 std::vector<Path> planned_strokes(const std::string& svg_path);
 
 // The pen-down paths a job commands: where each SP,0 puts the pen down, then the end of
-// every SM until the SP,1 (machine mm).
+// every SM or LM until the SP,1 (machine mm).
 std::vector<Path> job_marks(const std::string& job_path, double steps_per_mm);
-// The motor steps the job's SMs make with the pen down (|motor 1| + |motor 2|).
+// The motor steps the job's SMs and LMs make with the pen down (|motor 1| + |motor 2|).
 size_t job_down_steps(const std::string& job_path);
 
 // Every plan stroke drawn once, in order, within `tol` mm: the firmware's marks and the

@@ -15,10 +15,14 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <random>
 #include <nlohmann/json.hpp>
 
+#include "drivers/device/profile.hpp"
 #include "drivers/job/ebb_reader.hpp"
 #include "drivers/job/timed_job.hpp"
+#include "drivers/motion/ebb_motion.hpp"
 #include "drivers/stream/ebb/reset.hpp"
 #include "drivers/stream/ebb/streamer.hpp"
 #include "drivers/stream/journal.hpp"
@@ -111,19 +115,86 @@ TEST_CASE("EBB firmware draws foreign.svg on axidraw-v3 as planned, in the estim
   CHECK(log.last_step_s == Approx(e.estimate_s).epsilon(0.01));
 }
 
-TEST_CASE("EBB firmware draws a small stipple on axidraw-minikit as planned, in the estimated time", "[ebb]") {
+TEST_CASE("EBB firmware draws a small stipple on axidraw-minikit as planned, in the estimated time, as LM and as SM moves", "[ebb]") {
   test::TempDir t;
     // A 3-minute tone stipple: 269 dots, most of them filled discs (spirals), two touches.
   auto r = test::run_cli("stipple " + test::example("horse.png") + " --page 60x40mm --margin 3 --time 3min " +
                          "--profile axidraw-minikit -q -o " + t.file("dots.svg"));
   REQUIRE(r.exit_code == 0);
-  const Exported e = export_both("export " + t.file("dots.svg") + " --profile axidraw-minikit", t.file("dots"));
-  const std::string replies = ebbtest::run_job_file(e.job, t.file("fw.log"));
+  struct Run {
+    size_t commands = 0;
+    double firmware_s = 0, estimate_s = 0;
+  };
+  std::map<std::string, Run> runs;
+  for (const std::string moves : {"lm", "sm"}) {
+    INFO("--ebb-moves " << moves);
+    const Exported e = export_both("export " + t.file("dots.svg") + " --profile axidraw-minikit --ebb-moves " + moves,
+                                   t.file("dots-" + moves));
+    const std::string text = test::read_file(e.job);
+    CHECK(text.find(moves == "lm" ? "\nLM," : "\nSM,") != std::string::npos);
+    CHECK(text.find(moves == "lm" ? "\nSM," : "\nLM,") == std::string::npos);  // no fallback SM
+    const std::string replies = ebbtest::run_job_file(e.job, t.file("fw-" + moves + ".log"));
+    CHECK(replies.find('!') == std::string::npos);
+    const ebbtest::SimLog log = ebbtest::read_log(t.file("fw-" + moves + ".log"), 80);
+    REQUIRE(log.marks.size() > 200);
+    check_drawn_as_planned(e, log);
+    CHECK(log.last_step_s == Approx(e.estimate_s).epsilon(0.01));
+    runs[moves] = {static_cast<size_t>(std::count(text.begin(), text.end(), '\n')), log.last_step_s, e.estimate_s};
+  }
+  for (const auto& [moves, run] : runs)
+    WARN(moves << ": " << run.commands << " commands, firmware " << run.firmware_s << " s, estimate " << run.estimate_s
+               << " s (" << 100 * (run.estimate_s - run.firmware_s) / run.firmware_s << " %)");
+  // The stipple's discs are spirals of short segments, each a speed saw-tooth the LMs
+  // follow (an SM has one constant rate for it): a few more commands, not many.
+  CHECK(runs["lm"].commands < 1.3 * runs["sm"].commands);
+}
+
+TEST_CASE("A long job of many LM moves ends exactly on its planned step position on the firmware, in its time", "[ebb]") {
+  // 1,000 random hops and jittery strokes (segments of 0.01 to 0.6 mm), each from rest to rest, as the
+  // writer cuts them: the firmware's counters must end where the last point rounds to.
+  test::TempDir t;
+  const stipplot::DeviceProfile p = stipplot::find_profile("axidraw-v3");
+  const stipplot::motion::EbbGeometry g{80};
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> coord(0, 60), jitter(-0.3, 0.3);
+  stipplot::motion::MotorSteps at{0, 0};
+  int64_t clock = 0;
+  std::vector<stipplot::motion::MotionBlock> blocks;
+  std::vector<stipplot::motion::EbbMove> moves;
+  std::string job = "EM,1,1\n";
+  stipplot::Vec2 here{0, 0};
+  size_t lms = 0;
+  for (int i = 0; i < 1000; ++i) {
+    std::vector<stipplot::Vec2> pts{here};
+    const int n = 1 + i % 4;
+    for (int k = 0; k < n; ++k) {
+      const stipplot::Vec2 q = i % 5 == 0 ? stipplot::Vec2{coord(rng), coord(rng)}
+                                          : stipplot::Vec2{std::clamp(pts.back().x + jitter(rng) * (k + 1), 0.0, 60.0),
+                                                           std::clamp(pts.back().y + jitter(rng), 0.0, 60.0)};
+      pts.push_back(q);
+    }
+    moves.clear();
+    stipplot::motion::polyline_moves(pts, i % 2 ? p.motion.speed_up_mm_s : p.motion.speed_down_mm_s, p.motion, g, {}, at, clock,
+                                     blocks, moves);
+    for (const auto& m : moves) {
+      job += stipplot::motion::ebb_command(m) + "\n";
+      lms += m.lm;
+    }
+    here = pts.back();
+  }
+  REQUIRE(at == g.steps(here));
+  std::ofstream(t.file("long.ebb")) << job;
+  const std::string replies = ebbtest::run_job_file(t.file("long.ebb"), t.file("fw.log"));
   CHECK(replies.find('!') == std::string::npos);
   const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
-  REQUIRE(log.marks.size() > 200);
-  check_drawn_as_planned(e, log);
-  CHECK(log.last_step_s == Approx(e.estimate_s).epsilon(0.01));
+  CHECK(log.m1 == at[0]);  // to the step
+  CHECK(log.m2 == at[1]);
+  const stipplot::io::JobTiming timing = stipplot::io::time_ebb_job(stipplot::io::parse_ebb_job(job, 80));
+  CHECK(timing.total_s == Approx(static_cast<double>(clock) / 25000).epsilon(1e-9));
+  CHECK(log.last_step_s == Approx(timing.total_s).epsilon(0.001));
+  WARN(lms << " LMs of " << std::count(job.begin(), job.end(), '\n') - 1 << " moves end at motor steps " << log.m1 << ","
+           << log.m2 << " (planned " << at[0] << "," << at[1] << "); firmware " << log.last_step_s
+           << " s, estimate " << timing.total_s << " s");
 }
 
 TEST_CASE("stipplot plot streams foreign.svg to the EBB firmware over a pty", "[ebb]") {
@@ -252,7 +323,19 @@ TEST_CASE("The board's PRG button pauses a plot as axicli's does, and plot --res
   CHECK(std::count(first.err.begin(), first.err.end(), '\n') == 1);
   resume_to_end(e.job, board.port(), first.err);
   board.finish();
-  check_drawn_as_planned(e, ebbtest::read_log(t.file("fw.log"), 80));
+  // The first QB goes out once the first move is answered; an LM job's travel to its first
+  // stroke is a few commands, so the stop may come inside that stroke: the pen lifts there
+  // and the resume lowers it again, one mark in two pieces. Judged as ink: every point of
+  // the job's pen-down paths within a step of ink and no ink off them, the pen-down steps
+  // the job's exactly (nothing drawn twice), back home.
+  const ebbtest::SimLog log = ebbtest::read_log(t.file("fw.log"), 80);
+  const auto planned = ebbtest::job_marks(e.job, 80);
+  CHECK(ebbtest::farthest(planned, log.marks, 0.01, 0.5).worst <= kStep);
+  CHECK(ebbtest::farthest(log.marks, planned, 0.01, 0.5).worst <= kStep);
+  CHECK(log.down_steps == ebbtest::job_down_steps(e.job));
+  CHECK(log.marks.size() <= planned.size() + 1);
+  CHECK(log.m1 == 0);
+  CHECK(log.m2 == 0);
 }
 
 TEST_CASE("A plot resumed twice (the link dropped at 30 % and again at 70 %) still draws each mark once", "[ebb]") {

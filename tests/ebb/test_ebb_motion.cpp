@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <random>
+#include <thread>
 
 #include "drivers/device/profile.hpp"
 #include "drivers/job/ebb_reader.hpp"
@@ -10,6 +12,7 @@
 #include "drivers/motion/ebb_motion.hpp"
 #include "drivers/stream/ebb/streamer.hpp"
 #include "drivers/transport/devices.hpp"
+#include "drivers/transport/loopback.hpp"
 #include "drivers/writers/ebb_writer.hpp"
 #include "util/error.hpp"
 
@@ -77,8 +80,10 @@ TEST_CASE("NextDraw profiles carry nextdraw_conf's numbers and the brushless lif
   CHECK(find_profile("idraw-a3").machine.travel_x_mm == 420);
 }
 
-TEST_CASE("An EBB profile refuses speeds past the firmware's step rate", "[ebb]") {
-  std::string text = R"(name = "fast"
+namespace {
+// An EBB profile whose pen-up speed steps a motor past 25 kHz (speed_up_mm_s = 400).
+std::string fast_profile_text() {
+  return R"(name = "fast"
 description = "x"
 protocol = "ebb"
 [machine]
@@ -122,6 +127,11 @@ flow_control = "none"
 rx_buffer_bytes = 64
 newline = false
 )";
+}
+}  // namespace
+
+TEST_CASE("An EBB profile refuses speeds past the firmware's step rate", "[ebb]") {
+  std::string text = fast_profile_text();
   REQUIRE_THROWS_WITH(parse_profile(text, "fast.toml"), Catch::Contains("25 kHz"));
   text.replace(text.find("speed_up_mm_s = 400"), 19, "speed_up_mm_s = 150");
   CHECK(parse_profile(text, "ok.toml").motion.pen_drop_s == Approx(0.146));
@@ -157,6 +167,117 @@ TEST_CASE("SM slices end exactly on the plan's step positions within the firmwar
   CHECK(std::hypot(end.x - pts.back().x, end.y - pts.back().y) <= 0.5 * std::sqrt(2.0) / 80 + 1e-12);
 }
 
+namespace {
+
+// The firmware's LM arithmetic for one motor, tick by tick as ebb.c's ISR does it with
+// 32-bit registers (accumulators cleared: 0, or 2^31 - 1 when the first rate is negative):
+// the tick of the last of `steps` steps and the steps' signed sum; 0 ticks if it runs past
+// `limit` ticks.
+std::pair<int64_t, int64_t> isr_lm(int64_t rate, int64_t steps, int64_t accel, int64_t limit) {
+  if (steps < 0) rate = -rate, steps = -steps, accel = -accel;  // the legacy form
+  int32_t r = static_cast<int32_t>(rate - accel / 2);
+  const int32_t a = static_cast<int32_t>(accel);
+  uint32_t acc = static_cast<int64_t>(r) + a < 0 ? 0x7FFFFFFFu : 0;
+  int64_t pos = 0, left = steps;
+  for (int64_t tick = 1; tick <= limit; ++tick) {
+    r = static_cast<int32_t>(static_cast<uint32_t>(r) + static_cast<uint32_t>(a));
+    acc += static_cast<uint32_t>(r);
+    if (acc & 0x80000000u) {
+      acc &= 0x7FFFFFFFu;
+      pos += r < 0 ? -1 : 1;
+      if (--left == 0) return {tick, pos};
+    }
+  }
+  return {0, pos};
+}
+
+}  // namespace
+
+TEST_CASE("LM time: lm_motor_ticks is the firmware's ISR arithmetic, tick for tick", "[ebb]") {
+  std::mt19937_64 rng(7);
+  std::uniform_int_distribution<int64_t> steps(1, 400), ticks(1, 6000);
+  std::uniform_real_distribution<double> share(0, 2);
+  int checked = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const int64_t s = steps(rng) * (i % 2 ? -1 : 1), n = ticks(rng);
+    const double w0 = share(rng);
+    const auto m = motion::lm_phase(s, 0, n, w0, 2 - w0);
+    if (!m) continue;  // more steps than ticks
+    const int64_t t = motion::lm_ticks(*m);
+    const auto [isr_t, isr_pos] = isr_lm(m->r1, m->s1, m->a1, 2 * t + 1000);
+    INFO(motion::ebb_command(*m));
+    REQUIRE(isr_t == t);
+    REQUIRE(isr_pos == s);  // every step the way it was asked: no reversal
+    ++checked;
+  }
+  CHECK(checked > 1000);
+}
+
+TEST_CASE("LM phases land exactly on the plan's rounded step positions, in the plan's time", "[ebb]") {
+  const DeviceProfile p = find_profile("axidraw-v3");
+  const motion::EbbGeometry g{80};
+  // As the SM test: long and very short segments, so phases of 0 and 1 step occur.
+  std::vector<Vec2> pts{{0, 0}};
+  for (int i = 0; i < 400; ++i) pts.push_back({pts.back().x + (i % 3 == 0 ? 0.013 : 1.7), pts.back().y + (i % 2 ? 0.9 : -0.4)});
+  std::vector<motion::MotionBlock> blocks;
+  const double planned = motion::polyline_seconds(pts, p.motion.speed_down_mm_s, p.motion, &blocks);
+  motion::MotorSteps at{0, 0};
+  int64_t clock = 0;
+  std::vector<motion::EbbMove> moves;
+  // Block by block: after each block's phases the motors stand on its end, rounded.
+  size_t lms = 0;
+  for (const motion::MotionBlock& b : blocks) {
+    const size_t before = moves.size();
+    motion::lm_blocks({b}, g, p.motion.accel_mm_s2, at, clock, moves);
+    REQUIRE(moves.size() - before <= 3);  // accelerate, cruise, decelerate at most
+    REQUIRE(at == g.steps(b.to));
+  }
+  int64_t m1 = 0, m2 = 0, ticks = 0;
+  for (const auto& m : moves) {
+    if (m.lm) {
+      INFO(motion::ebb_command(m));
+      REQUIRE(motion::lm_ok(m));
+      ticks += motion::lm_ticks(m);
+      ++lms;
+    } else {
+      REQUIRE(motion::ebb_move_ok(m));
+      ticks += 25 * m.ms;
+    }
+    m1 += m.s1, m2 += m.s2;
+  }
+  CHECK(lms == moves.size());  // no phase needed an SM here
+  CHECK(motion::MotorSteps{m1, m2} == g.steps(pts.back()));
+  CHECK(ticks == clock);
+  CHECK(static_cast<double>(ticks) / 25000 == Approx(planned).epsilon(0.01));
+  // The same chain at once (lm_blocks is what polyline_moves does for LM) and its clock.
+  motion::MotorSteps at2{0, 0};
+  int64_t clock2 = 0;
+  std::vector<motion::EbbMove> whole;
+  motion::polyline_moves(pts, p.motion.speed_down_mm_s, p.motion, g, {}, at2, clock2, blocks, whole);
+  CHECK(at2 == g.steps(pts.back()));
+  CHECK(static_cast<double>(clock2) / 25000 == Approx(planned).epsilon(0.01));
+  // A phase of no whole step gives its time to the next; a tiny move from rest is one LM.
+  motion::MotorSteps at3{0, 0};
+  int64_t clock3 = 0;
+  std::vector<motion::EbbMove> tiny;
+  motion::polyline_moves({{0, 0}, {0.0126, 0}}, 50, p.motion, g, {}, at3, clock3, blocks, tiny);
+  CHECK(at3 == motion::MotorSteps{1, 1});
+  REQUIRE(!tiny.empty());
+  CHECK(tiny.size() <= 2);
+  for (const auto& m : tiny) CHECK(motion::lm_ok(m));
+}
+
+TEST_CASE("EBB profile key [ebb] moves: lm by default, sm on request, anything else refused", "[ebb]") {
+  CHECK(find_profile("axidraw-v3").ebb.moves == motion::EbbMoveKind::lm);
+  std::string text = fast_profile_text();
+  text.replace(text.find("speed_up_mm_s = 400"), 19, "speed_up_mm_s = 150");
+  CHECK(parse_profile(text, "ok.toml").ebb.moves == motion::EbbMoveKind::lm);
+  text.replace(text.find("fifo_commands"), 0, "moves = \"sm\"\n");
+  CHECK(parse_profile(text, "sm.toml").ebb.moves == motion::EbbMoveKind::sm);
+  text.replace(text.find("moves = \"sm\""), 12, "moves = \"t3\"");
+  CHECK_THROWS_WITH(parse_profile(text, "bad.toml"), Catch::Contains("ebb.moves must be one of lm|sm"));
+}
+
 TEST_CASE("EBB job reader tracks motors, pen and the firmware's time", "[ebb]") {
   const io::Job job = io::parse_ebb_job("EM,1,1\nSP,1,130\nSM,25,160,0\n# pause: Change pen: pen 2\nSP,0,146\nSM,10,0,80\n", 80);
   REQUIRE(job.lines.size() == 6);
@@ -170,13 +291,45 @@ TEST_CASE("EBB job reader tracks motors, pen and the firmware's time", "[ebb]") 
   const io::JobTiming t = io::time_ebb_job(job);
   CHECK(t.total_s == Approx(0.311));
   CHECK(t.done_s[2] == Approx(0.155));
-  CHECK_THROWS_WITH(io::parse_ebb_job("LM,1,2,3\n", 80), Catch::Contains("only SM, SP, EM, SC and CU"));
+  CHECK_THROWS_WITH(io::parse_ebb_job("LM,1,2,3\n", 80), Catch::Contains("LM takes a rate, steps and accel"));
+  CHECK_THROWS_WITH(io::parse_ebb_job("XM,1,2,3\n", 80), Catch::Contains("only SM, LM, SP, EM, SC and CU"));
+  // An LM whose rate reaches 0 before its last step would stall (or, on 3.x, reverse).
+  CHECK_THROWS_WITH(io::parse_ebb_job("LM,1000,5,-10,0,0,0,3\n", 80), Catch::Contains("not stalling or reversing"));
+  CHECK_THROWS_WITH(io::parse_ebb_job("LM,0,0,0,0,0,0\n", 80), Catch::Contains("an LM must move"));
   CHECK_THROWS_WITH(io::parse_ebb_job("SM,1,26,0\n", 80), Catch::Contains("25 per ms"));
   CHECK_THROWS_WITH(io::parse_ebb_job("SM,5,x,0\n", 80), Catch::Contains("line 1"));
   // Found by the fuzzer: a step count past strtoll's range saturated, passed the rate check
   // (llabs of the smallest long long) and overflowed the step sums.
   CHECK_THROWS_WITH(io::parse_ebb_job("SM,21,-77777777777777777777777777,0\n", 80), Catch::Contains("out of range"));
   CHECK_THROWS_WITH(io::parse_ebb_job("SM,21,0,9223372036854775807\n", 80), Catch::Contains("out of range"));
+}
+
+TEST_CASE("An LM job is refused in one line on EBB firmware before 2.7, before anything moves", "[ebb]") {
+  auto [host, board] = io::make_pipe();
+  // A 2.6 board: it answers V, and the test reads whatever else the host sends.
+  std::string heard;
+  std::thread fw([&, board = board] {
+    char buf[256];
+    std::string in;
+    for (;;) {
+      const long n = board->read(buf, sizeof buf, std::chrono::milliseconds(2000));
+      if (n <= 0) return;
+      in.append(buf, static_cast<size_t>(n));
+      for (size_t eol; (eol = in.find('\r')) != std::string::npos; in.erase(0, eol + 1)) {
+        const std::string cmd = in.substr(0, eol);
+        heard += cmd + ";";
+        board->write(cmd == "V" ? "EBBv13_and_above EB Firmware Version 2.6.5\r\n" : "OK\r\n");
+      }
+    }
+  });
+  io::LoopbackTransport t(host);
+  io::ebb::Streamer s(t, io::ebb::Options{});
+  s.connect();
+  const io::Job job = io::parse_ebb_job("EM,1,1\nSP,1,130\nLM,1000000,100,0,0,0,0,3\n", 80);
+  CHECK_THROWS_WITH(s.stream(job, 0, {}, nullptr), Catch::Contains("2.7 or later") && Catch::Contains("moves = \"sm\""));
+  t.close();
+  fw.join();
+  CHECK(heard == "V;");  // nothing of the job was sent
 }
 
 TEST_CASE("EBB firmware versions: 2.5 to 3.x, and what is not an EBB", "[ebb]") {

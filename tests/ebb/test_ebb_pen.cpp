@@ -231,3 +231,27 @@ TEST_CASE("Pen heights out of range, NaN, on a finished job or on a plotter that
   CHECK(job.err.find("finished job") != std::string::npos);
   CHECK(test::count_lines(job.err) == 1);
 }
+
+TEST_CASE("--ebb-moves: lm or sm on an EBB's SVG export or plot; anything else, another plotter or a finished job refused in one line", "[ebb]") {
+  test::TempDir t;
+  const std::string svg = two_strokes(t);
+  REQUIRE(test::run_cli("export " + svg + " --profile axidraw-v3 --ebb-moves sm -q -o " + t.file("sm.ebb")).exit_code == 0);
+  REQUIRE(test::run_cli("export " + svg + " --profile axidraw-v3 -q -o " + t.file("lm.ebb")).exit_code == 0);
+  const std::string sm = test::read_file(t.file("sm.ebb")), lm = test::read_file(t.file("lm.ebb"));
+  CHECK(sm.find("\nSM,") != std::string::npos);
+  CHECK(sm.find("\nLM,") == std::string::npos);
+  CHECK(lm.find("\nLM,") != std::string::npos);  // the default
+  CHECK(lm.find("\nSM,") == std::string::npos);
+  for (const std::string& cmd : {"export " + svg + " --profile axidraw-v3 --ebb-moves t3 -o " + t.file("x.ebb"),
+                                "export " + svg + " --profile grbl-servo --ebb-moves sm -o " + t.file("x.gcode"),
+                                "plot " + t.file("lm.ebb") + " --profile axidraw-v3 --ebb-moves sm --port /dev/null",
+                                "plot --resume " + t.file("lm.ebb") + " --ebb-moves sm --port /dev/null"}) {
+    auto r = test::run_cli(cmd);
+    INFO(cmd << ": " << r.err);
+    CHECK(r.exit_code != 0);
+    CHECK(r.err.find("--ebb-moves") != std::string::npos);
+    CHECK(test::count_lines(r.err) == 1);
+  }
+  CHECK(!std::filesystem::exists(t.file("x.ebb")));
+  CHECK(!std::filesystem::exists(t.file("x.gcode")));
+}

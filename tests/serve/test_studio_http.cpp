@@ -351,7 +351,7 @@ TEST_CASE("serve http: an AxiDraw (EBB) profile previews, downloads its .ebb job
   r = cl.Get("/api/download/ebb");
   REQUIRE(r->status == 200);
   CHECK(r->body.rfind("EM,", 0) == 0);  // the EBB's own commands, motors on first
-  CHECK(r->body.find("\nSM,") != std::string::npos);
+  CHECK(r->body.find("\nLM,") != std::string::npos);  // the profile's default moves
   r = cl.Post("/api/plot/start", R"({"port":"sim"})", "application/json");
   CHECK(r->status == 400);
   CHECK(r->body.find("EiBotBoard") != std::string::npos);

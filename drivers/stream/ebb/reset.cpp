@@ -71,7 +71,7 @@ size_t first_unsure(const Job& job, long last, int fifo) {
     const JobLine& l = job.lines[static_cast<size_t>(i)];
     if (l.host_only) continue;
     const std::string n = ebb_command_name(l.text);
-    if ((n == "SM" || n == "SP" || n == "EM") && ++queued == fifo + 1) return static_cast<size_t>(i);
+    if ((ebb_motion_command(n) || n == "SP" || n == "EM") && ++queued == fifo + 1) return static_cast<size_t>(i);
   }
   return 0;
 }
@@ -81,7 +81,7 @@ ResumePlan plan_reset_resume(const Job& job, const JournalState& journal, const 
   const double spm = profile.ebb.steps_per_mm;
   const long last = std::min(journal.last_acked, static_cast<long>(L.size()) - 1);
   size_t first_sm = 0;
-  while (first_sm < L.size() && (L[first_sm].host_only || ebb_command_name(L[first_sm].text) != "SM")) ++first_sm;
+  while (first_sm < L.size() && (L[first_sm].host_only || !ebb_motion_command(ebb_command_name(L[first_sm].text)))) ++first_sm;
   const size_t lo = first_unsure(job, last, fifo);
 
   // The last proof, when it says more than the FIFO's bound does.
@@ -136,20 +136,30 @@ ResumePlan plan_reset_resume(const Job& job, const JournalState& journal, const 
     if (ebb_command_name(L[k].text) == "SP") header_lifts = !L[k].pen_down;
   }
   if (!header_lifts && !pen_up.empty()) rp.preamble.push_back(pen_up);
-  // An accelerated travel from home, as the writer moves (a constant-speed jump would stall a real stepper).
+  // An accelerated travel from home, as the writer moves (a constant-speed jump would stall
+  // a real stepper), in the job's own kind of moves: LMs if it has any (its firmware runs
+  // them), else SMs.
   const Steps target = split ? at : steps_after(job, static_cast<long>(from) - 1, spm);
   const motion::EbbGeometry geo{spm};
+  const bool lm = std::any_of(L.begin(), L.end(), [](const JobLine& l) { return !l.host_only && ebb_command_name(l.text) == "LM"; });
+  const motion::EbbMoveSettings how{lm ? motion::EbbMoveKind::lm : motion::EbbMoveKind::sm, profile.ebb.time_slice_ms};
   motion::MotorSteps pos{0, 0};
-  int64_t clock_ms = 0;
+  int64_t clock_ticks = 0;
   std::vector<motion::MotionBlock> blocks;
   std::vector<motion::EbbMove> moves;
-  motion::polyline_moves({geo.mm({0, 0}), geo.mm({target[0], target[1]})}, profile.motion.speed_up_mm_s, profile.motion,
-                         geo, profile.ebb.time_slice_ms, pos, clock_ms, blocks, moves);
-  for (const motion::EbbMove& m : moves) rp.preamble.push_back(motion::sm_command(m));
-  if (pos[0] != target[0] || pos[1] != target[1]) {  // rounding never leaves it off, but to the step it must be
-    const SmPart fix = sm_remainder(1, target[0] - pos[0], target[1] - pos[1], {0, 0});
-    rp.preamble.push_back(motion::sm_command({fix.ms, fix.s1, fix.s2}));
-  }
+  // From rest at `pos` to rest at `to` (motor steps), to the step. O(moves).
+  auto move_to = [&](const Steps& to, double speed) {
+    moves.clear();
+    motion::polyline_moves({geo.mm(pos), geo.mm({to[0], to[1]})}, speed, profile.motion, geo, how, pos, clock_ticks, blocks,
+                           moves);
+    for (const motion::EbbMove& m : moves) rp.preamble.push_back(motion::ebb_command(m));
+    if (pos[0] != to[0] || pos[1] != to[1]) {  // rounding never leaves it off, but to the step it must be
+      const SmPart fix = sm_remainder(1, to[0] - pos[0], to[1] - pos[1], {0, 0});
+      rp.preamble.push_back(motion::sm_command({fix.ms, fix.s1, fix.s2}));
+      pos = to;
+    }
+  };
+  move_to(target, profile.motion.speed_up_mm_s);
   const bool down = split || L[from - 1].pen_down;
   if (down) {
     for (size_t k = from; k-- > 0;)
@@ -162,8 +172,14 @@ ResumePlan plan_reset_resume(const Job& job, const JournalState& journal, const 
   if (split) {
     const EbbCommand c = parse_ebb_command(L[from].text, from + 1);
     const Steps p0 = steps_after(job, static_cast<long>(from) - 1, spm);
-    const SmPart r = sm_remainder(c.ms, c.s1, c.s2, {at[0] - p0[0], at[1] - p0[1]});
-    rp.preamble.push_back(motion::sm_command({r.ms, r.s1, r.s2}));
+    if (c.name == "LM") {
+      // An LM's ramp cannot be cut where it stood: its rest, from rest, planned again
+      // to its end at the pen-down speed.
+      move_to(steps_after(job, static_cast<long>(from), spm), profile.motion.speed_down_mm_s);
+    } else {
+      const SmPart r = sm_remainder(c.ms, c.s1, c.s2, {at[0] - p0[0], at[1] - p0[1]});
+      rp.preamble.push_back(motion::sm_command({r.ms, r.s1, r.s2}));
+    }
     redraw += length_mm(at, steps_after(job, static_cast<long>(from), spm), spm);
     rp.next = from + 1;
   } else {
@@ -176,7 +192,7 @@ ResumePlan plan_reset_resume(const Job& job, const JournalState& journal, const 
   char b[200];
   if (proved)
     std::snprintf(b, sizeof b, "from the last point proved drawn before the reset (QS on line %ld%s)", p.line + 1,
-                  split ? ", its SM split there" : "");
+                  !split ? "" : ebb_command_name(L[from].text) == "LM" ? ", its LM's rest split there and planned again" : ", its SM split there");
   else
     std::snprintf(b, sizeof b, "from the first line the board may not have run (its FIFO of %d commands was lost; %s)", fifo,
                   why_not.c_str());

@@ -210,7 +210,7 @@ ResumePlan Streamer::resume(const Job& job, const JournalState& journal, const D
   // The servo settings are the job's own (a board may have been set up since).
   ResumePlan rp;
   for (const JobLine& l : L) {
-    if (ebb_command_name(l.text) == "SM") break;
+    if (ebb_motion_command(ebb_command_name(l.text))) break;
     if (ebb_command_name(l.text) == "SC") rp.preamble.push_back(l.text);
   }
   if (journal.last_acked < 0) return rp;  // nothing ran: from the start (EM zeroes the board)
@@ -235,7 +235,7 @@ ResumePlan Streamer::resume(const Job& job, const JournalState& journal, const D
       }
   }
   size_t first_sm = 0;
-  while (first_sm < L.size() && ebb_command_name(L[first_sm].text) != "SM") ++first_sm;
+  while (first_sm < L.size() && !ebb_motion_command(ebb_command_name(L[first_sm].text))) ++first_sm;
   const bool home = at[0] == 0 && at[1] == 0;
   if (where >= 0 && home && static_cast<size_t>(where) < first_sm) {
     rp.next = 0;  // still in the set-up, maybe reset there: all of it again (EM zeroes the board where it stands)
@@ -277,7 +277,7 @@ class Streamer::JobRun {
          const ProgressFn& progress, StreamControls* controls)
       : s_(s), session_(job, start, preamble, journal, progress), controls_(controls), spm_(s.o_.steps_per_mm) {
     for (const std::string& p : preamble)
-      if (ebb_command_name(p) == "SM") {
+      if (ebb_motion_command(ebb_command_name(p))) {
         const EbbCommand c = parse_ebb_command(p, 0);
         preamble_moves_ |= c.s1 != 0 || c.s2 != 0;
       }
@@ -338,7 +338,7 @@ class Streamer::JobRun {
     s_.reply(session_.text(item), s_.o_.watchdog + millis(allowed), session_.job_line(item));
     in_flight_.pop_front();
     answered_ = item + 1;
-    if (ebb_command_name(session_.text(item)) == "SM") moved_ = true;
+    if (ebb_motion_command(ebb_command_name(session_.text(item)))) moved_ = true;
     if (session_.job_line(item) >= 0) session_.acknowledge(session_.job_line(item));
     session_.report(sent_);
   }
@@ -487,18 +487,27 @@ class Streamer::JobRun {
   std::deque<size_t> in_flight_;
   std::deque<size_t> qs_after_;  // for each QS in flight: the items sent before it
   double spm_ = 0;
-  bool preamble_moves_ = false;  // the preamble has SMs that move
+  bool preamble_moves_ = false;  // the preamble has SMs or LMs that move
   clock::time_point next_proof_ = clock::now();
   clock::time_point next_button_ = clock::now();
   bool button_ = false;  // a QB said the PRG button was pressed
   ProvenPoint proof_;  // the last journalled
   size_t sent_ = 0, answered_ = 0;
-  bool moved_ = false;  // an SM has been answered
+  bool moved_ = false;  // an SM or LM has been answered
   std::string pen_up_, pen_down_;
 };
 
 StreamResult Streamer::stream(const Job& job, size_t start, const std::vector<std::string>& preamble, Journal* journal,
                               const ProgressFn& progress, StreamControls* controls) {
+  // LM's kinematics (rate - accel / 2, its accumulators) are 2.7's: refused before anything is sent.
+  if (fw_.major == 2 && fw_.minor < 7) {
+    bool lm = std::any_of(preamble.begin(), preamble.end(), [](const std::string& p) { return ebb_command_name(p) == "LM"; });
+    for (size_t i = start; i < job.lines.size() && !lm; ++i)
+      lm = !job.lines[i].host_only && ebb_command_name(job.lines[i].text) == "LM";
+    if (lm)
+      throw UserError("the job has LM moves, which EBB firmware " + std::to_string(fw_.major) + "." + std::to_string(fw_.minor) +
+                      " runs differently (2.7 or later needed): export it again with [ebb] moves = \"sm\" (--ebb-moves sm), or update the firmware");
+  }
   return JobRun(*this, job, start, preamble, journal, progress, controls).run();
 }
 
