@@ -47,6 +47,27 @@ else
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 [ "$what" = build ] && exit 0
+# ebb_sim (the EBB oracle) is a 32-bit program. A kernel without 32-bit support (some VMs:
+# "Exec format error") runs it through qemu-user's qemu-i386 registered with binfmt_misc
+# (the sim re-executes itself on a reboot command, so a plain qemu-i386 prefix would not do).
+i386_dir=$(mktemp -d)
+echo 'int main(void) { return 0; }' >"$i386_dir/a.c"
+if gcc -m32 -o "$i386_dir/a" "$i386_dir/a.c" && ! "$i386_dir/a" 2>/dev/null; then
+  echo "setup (test): this kernel runs no 32-bit program; ebb_sim will run under qemu-i386"
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  if ! dpkg-query -W -f='${Status}' qemu-user 2>/dev/null | grep -q "install ok installed"; then
+    $SUDO env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends qemu-user
+  fi
+  binfmt=/proc/sys/fs/binfmt_misc
+  [ -e $binfmt/register ] || $SUDO mount -t binfmt_misc binfmt_misc $binfmt
+  if [ ! -e $binfmt/qemu-i386 ]; then
+    printf '%s' ':qemu-i386:M::\x7fELF\x01\x01\x01\x00\x00\x00\x00\x00\x00\x00\x00\x00\x02\x00\x03\x00:\xff\xff\xff\xff\xff\xfe\xfe\x00\xff\xff\xff\xff\xff\xff\xff\xff\xfe\xff\xff\xff:/usr/bin/qemu-i386:' |
+      $SUDO tee $binfmt/register >/dev/null
+  fi
+  "$i386_dir/a" || { echo "setup.sh: 32-bit programs still do not run; the EBB tests need them" >&2; exit 1; }
+fi
+rm -rf "$i386_dir"
 # playwright-core as the lock file pins it (no browser download: it drives /usr/bin/chromium).
 browser_dir="$(dirname "$0")/../tests/browser"
 if ! cmp -s "$browser_dir/package-lock.json" "$browser_dir/node_modules/.installed-lock.json" 2>/dev/null; then

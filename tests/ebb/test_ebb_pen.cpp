@@ -232,7 +232,7 @@ TEST_CASE("Pen heights out of range, NaN, on a finished job or on a plotter that
   CHECK(test::count_lines(job.err) == 1);
 }
 
-TEST_CASE("--ebb-moves: lm or sm on an EBB's SVG export or plot; anything else, another plotter or a finished job refused in one line", "[ebb]") {
+TEST_CASE("The ebb-moves option: lm or sm for an EBB export or plot, and anything else, another plotter or a finished job refused in one line", "[ebb]") {
   test::TempDir t;
   const std::string svg = two_strokes(t);
   REQUIRE(test::run_cli("export " + svg + " --profile axidraw-v3 --ebb-moves sm -q -o " + t.file("sm.ebb")).exit_code == 0);
