@@ -1,5 +1,6 @@
 #pragma once
 // Small helpers shared by the tests: temp dirs, running the CLI, synthetic images.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "geometry/drawing.hpp"
 #include "image/image.hpp"
 
 namespace test {
@@ -141,6 +143,20 @@ inline stipplot::Image grey_lines_image(int w = 256, int h = 256) {
       if (std::abs((x - y) % 48) < 3) v = 230; // light diagonal lines
     }
   return stipplot::Image::from_grey(w, h, g);
+}
+
+// Each line of `d` cut into pieces of at most 0.05 mm: f(layer, x of the piece's middle,
+// its length), so ink can be counted where it lies along x.
+template <class F>
+void for_each_line_piece(const stipplot::Drawing& d, F f) {
+  for (const stipplot::Layer& l : d.layers)
+    for (const stipplot::Polyline& pl : l.lines)
+      for (size_t i = 1; i < pl.pts.size(); ++i) {
+        const stipplot::Vec2 a = pl.pts[i - 1], b = pl.pts[i];
+        const double seg = std::hypot(b.x - a.x, b.y - a.y);
+        const int pieces = std::max(1, static_cast<int>(std::ceil(seg / 0.05)));
+        for (int k = 0; k < pieces; ++k) f(l, a.x + (b.x - a.x) * (k + 0.5) / pieces, seg / pieces);
+      }
 }
 
 }  // namespace test

@@ -141,12 +141,19 @@ TEST_CASE("An EBB profile refuses speeds past the firmware's step rate", "[ebb]"
   CHECK_THROWS_WITH(parse_profile(text, "bad.toml"), Catch::Contains("pen.method must be one of ebb-servo|ebb-brushless"));
 }
 
+namespace {
+// A zigzag of 400 long and very short segments: rounding must not accumulate over them.
+std::vector<Vec2> zigzag() {
+  std::vector<Vec2> pts{{0, 0}};
+  for (int i = 0; i < 400; ++i) pts.push_back({pts.back().x + (i % 3 == 0 ? 0.013 : 1.7), pts.back().y + (i % 2 ? 0.9 : -0.4)});
+  return pts;
+}
+}  // namespace
+
 TEST_CASE("SM slices end exactly on the plan's step positions within the firmware's rate", "[ebb]") {
   const DeviceProfile p = find_profile("axidraw-v3");
   const motion::EbbGeometry g{80};
-  // A zigzag of long and very short segments, then back: rounding must not accumulate.
-  std::vector<Vec2> pts{{0, 0}};
-  for (int i = 0; i < 400; ++i) pts.push_back({pts.back().x + (i % 3 == 0 ? 0.013 : 1.7), pts.back().y + (i % 2 ? 0.9 : -0.4)});
+  const std::vector<Vec2> pts = zigzag();
   std::vector<motion::MotionBlock> blocks;
   const double planned = motion::polyline_seconds(pts, p.motion.speed_down_mm_s, p.motion, &blocks);
   motion::MotorSteps at{0, 0};
@@ -216,9 +223,7 @@ TEST_CASE("LM time: lm_motor_ticks is the firmware's ISR arithmetic, tick for ti
 TEST_CASE("LM phases land exactly on the plan's rounded step positions, in the plan's time", "[ebb]") {
   const DeviceProfile p = find_profile("axidraw-v3");
   const motion::EbbGeometry g{80};
-  // As the SM test: long and very short segments, so phases of 0 and 1 step occur.
-  std::vector<Vec2> pts{{0, 0}};
-  for (int i = 0; i < 400; ++i) pts.push_back({pts.back().x + (i % 3 == 0 ? 0.013 : 1.7), pts.back().y + (i % 2 ? 0.9 : -0.4)});
+  const std::vector<Vec2> pts = zigzag();  // phases of 0 and 1 step occur
   std::vector<motion::MotionBlock> blocks;
   const double planned = motion::polyline_seconds(pts, p.motion.speed_down_mm_s, p.motion, &blocks);
   motion::MotorSteps at{0, 0};

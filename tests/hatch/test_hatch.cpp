@@ -36,18 +36,9 @@ Placement page(double w, double h, double margin) {
 // each segment cut into pieces of at most 0.05 mm, counted where their middle lies.
 std::vector<double> length_per_strip(const Drawing& d, double x0, double x1, int n) {
   std::vector<double> len(size_t(n), 0);
-  for (const Layer& l : d.layers)
-    for (const Polyline& pl : l.lines)
-      for (size_t i = 1; i < pl.pts.size(); ++i) {
-        const Vec2 a = pl.pts[i - 1], b = pl.pts[i];
-        const double seg = std::hypot(b.x - a.x, b.y - a.y);
-        const int pieces = std::max(1, int(std::ceil(seg / 0.05)));
-        for (int k = 0; k < pieces; ++k) {
-          const double x = a.x + (b.x - a.x) * (k + 0.5) / pieces;
-          const int s = std::clamp(int((x - x0) / (x1 - x0) * n), 0, n - 1);
-          len[size_t(s)] += seg / pieces;
-        }
-      }
+  test::for_each_line_piece(d, [&](const Layer&, double x, double piece) {
+    len[size_t(std::clamp(int((x - x0) / (x1 - x0) * n), 0, n - 1))] += piece;
+  });
   return len;
 }
 

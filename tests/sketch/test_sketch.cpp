@@ -438,17 +438,9 @@ namespace {
 // segment cut into pieces of at most 0.05 mm, counted where their middle lies).
 std::map<std::string, double> ink_between(const Drawing& d, double x0, double x1) {
   std::map<std::string, double> len;
-  for (const Layer& l : d.layers)
-    for (const Polyline& pl : l.lines)
-      for (size_t i = 1; i < pl.pts.size(); ++i) {
-        const Vec2 a = pl.pts[i - 1], b = pl.pts[i];
-        const double seg = std::hypot(b.x - a.x, b.y - a.y);
-        const int pieces = std::max(1, int(std::ceil(seg / 0.05)));
-        for (int k = 0; k < pieces; ++k) {
-          const double x = a.x + (b.x - a.x) * (k + 0.5) / pieces;
-          if (x >= x0 && x < x1) len[l.pen.name] += seg / pieces;
-        }
-      }
+  test::for_each_line_piece(d, [&](const Layer& l, double x, double piece) {
+    if (x >= x0 && x < x1) len[l.pen.name] += piece;
+  });
   return len;
 }
 }  // namespace
