@@ -53,6 +53,8 @@ detail tree-horse
 draw tree-horse-paper tree "$img/horse.png" --landscape --law linear   # the paper's look: SIBD over the whole page
 detail tree-horse-paper
 draw sketch-starry sketch "$img/starry_night.jpg" --landscape
+draw sketch-starry-4h sketch "$img/starry_night.jpg" --landscape --time 4h   # every stroke fits: the paper's sketch, no ground
+draw sketch-rocket-black sketch "$img/rocket.jpg" --landscape --pens examples/pens/black.toml   # one pen: the ground in tone steps
 draw pointillism-starry pointillism "$img/starry_night.jpg" --landscape
 draw pointillism-coffee-pens pointillism "$img/coffee.png" --landscape --plot-pens   # fineliners: colour fields hatched, dots over them
 detail pointillism-coffee-pens
