@@ -9,13 +9,11 @@
 
 namespace stipplot::hatch {
 
-void hatch_pen_fields(const PenGrid& g, size_t n_pens, double pen_mm, double coverage, std::vector<Layer>& layers,
-                      double mode_mm) {
+PenGrid settle_fields(const PenGrid& g, size_t n_pens, double mode_mm) {
   const int W = g.width, H = g.height;
-  if (W <= 0 || H <= 0 || n_pens == 0) return;
+  if (W <= 0 || H <= 0 || n_pens == 0) return g;
   const size_t n = static_cast<size_t>(W) * static_cast<size_t>(H);
   const double cell = g.cell_mm;
-  coverage = std::clamp(coverage, 1e-3, 1.0);
   // The mode over a box of side 2 mode_mm: per pen (and the paper) a box-filtered count.
   const int R = std::max(1, static_cast<int>(std::lround(mode_mm / cell)));
   std::vector<float> top(n, -1.0f);
@@ -36,6 +34,18 @@ void hatch_pen_fields(const PenGrid& g, size_t n_pens, double pen_mm, double cov
     for (size_t i = 0; i < n; ++i)
       if (sp[i] > top[i]) top[i] = sp[i], mode[i] = id;
   }
+  PenGrid settled = g;
+  settled.pen = std::move(mode);
+  return settled;
+}
+
+void hatch_fields(const PenGrid& g, size_t n_pens, double pen_mm, double coverage, std::vector<Layer>& layers) {
+  const int W = g.width, H = g.height;
+  if (W <= 0 || H <= 0 || n_pens == 0) return;
+  const size_t n = static_cast<size_t>(W) * static_cast<size_t>(H);
+  const double cell = g.cell_mm;
+  const std::vector<uint8_t>& mode = g.pen;
+  coverage = std::clamp(coverage, 1e-3, 1.0);
   // Directions per cell: the amount in kFieldDirections steps, whatever the coverage, so
   // the lines (and the plot's time) grow with the coverage alone.
   std::vector<uint8_t> dirs(n, 1);
@@ -66,6 +76,11 @@ void hatch_pen_fields(const PenGrid& g, size_t n_pens, double pen_mm, double cov
       }
     }
   }
+}
+
+void hatch_pen_fields(const PenGrid& grid, size_t n_pens, double pen_mm, double coverage, std::vector<Layer>& layers,
+                      double mode_mm) {
+  hatch_fields(settle_fields(grid, n_pens, mode_mm), n_pens, pen_mm, coverage, layers);
 }
 
 }  // namespace stipplot::hatch

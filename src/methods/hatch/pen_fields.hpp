@@ -26,13 +26,21 @@ struct PenGrid {
 
 inline constexpr double kFieldModeMm = 4.0;
 
-// Appends each pen's field as lines to layers[k].lines (layers.size() >= n_pens, n_pens <
-// 255): parallel lines 0.9 pen widths / coverage apart (coverage in (0, 1]), zig-zag linked
-// within a field. With amounts, a cell takes its amount in steps of kFieldDirections
-// crossed directions of such lines (n directions of coverage c lay 1 - (1 - c)^n), each
-// direction over every cell that wants at least as many, so one line crosses many tone
-// steps. O(cells x pens + the lines' length / cell).
+// The grid with each cell's pen replaced by the one most cells within `mode_mm` name (the
+// paper counting as a pen); amounts kept. Independent of the coverage: once per grid.
+// O(cells x pens).
+PenGrid settle_fields(const PenGrid& grid, size_t n_pens, double mode_mm = kFieldModeMm);
+
+// Appends each pen's fields of a settled grid as lines to layers[k].lines (layers.size() >=
+// n_pens, n_pens < 255): parallel lines 0.9 pen widths / coverage apart (coverage in (0,
+// 1]), zig-zag linked within a field. With amounts, a cell takes its amount in steps of
+// kFieldDirections crossed directions of such lines (n directions of coverage c lay
+// 1 - (1 - c)^n), each direction over every cell that wants at least as many, so one line
+// crosses many tone steps. O(cells x pens + the lines' length / cell).
 inline constexpr int kFieldDirections = 3;
+void hatch_fields(const PenGrid& settled, size_t n_pens, double pen_mm, double coverage, std::vector<Layer>& layers);
+
+// settle_fields, then hatch_fields.
 void hatch_pen_fields(const PenGrid& grid, size_t n_pens, double pen_mm, double coverage, std::vector<Layer>& layers,
                       double mode_mm = kFieldModeMm);
 

@@ -468,7 +468,7 @@ hatch::PenGrid ground_grid(const Image& image, const std::vector<Pen>& pens, con
       }
       g.pen[i] = answer[key];
     }
-    return g;
+    return hatch::settle_fields(g, pens.size());
   }
   // One pen: its lines' density is the only tone there is. Each cell wants the share of
   // the way from the paper to the pen that its colour lies (RGB, projected); one too
@@ -488,7 +488,7 @@ hatch::PenGrid ground_grid(const Image& image, const std::vector<Pen>& pens, con
   cv::GaussianBlur(amount, amount, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
   for (size_t i = 0; i < g.pen.size(); ++i)
     g.pen[i] = g.amount[i] * hatch::kFieldDirections < 0.5 ? hatch::PenGrid::kPaper : 0;
-  return g;
+  return hatch::settle_fields(g, pens.size());
 }
 
 Drawing ground_drawing(const hatch::PenGrid& grid, const std::vector<Pen>& pens, const Placement& placement,
@@ -498,7 +498,7 @@ Drawing ground_drawing(const hatch::PenGrid& grid, const std::vector<Pen>& pens,
   d.page.width_mm = tf.page_w();
   d.page.height_mm = tf.page_h();
   std::vector<Layer> layers(pens.size());
-  if (!grid.pen.empty()) hatch::hatch_pen_fields(grid, pens.size(), placement.pen_width_mm, coverage, layers);
+  if (!grid.pen.empty()) hatch::hatch_fields(grid, pens.size(), placement.pen_width_mm, coverage, layers);
   for (size_t k = 0; k < pens.size(); ++k) {
     if (layers[k].lines.empty()) continue;
     layers[k].pen = pens[k];

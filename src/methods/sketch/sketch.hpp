@@ -110,9 +110,10 @@ Drawing to_drawing(const SketchResult& r);
 // hatching, a pen each, as pointillism lays its ebauche, so the hour's ink reaches the
 // photo's tone where scattered strokes leave the page light. Each cell of half a pen width
 // over the image's rectangle takes the pen nearest (CIEDE2000) the photo's colour there,
-// the paper counting as a pen (no ink). O(input pixels + cells).
+// the paper counting as a pen (no ink); the fields settled (hatch::settle_fields) once, as
+// they do not depend on the budget. O(input pixels + cells x pens).
 hatch::PenGrid ground_grid(const Image& image, const std::vector<Pen>& pens, const Placement& placement);
-// The fields hatched at `coverage` (0, 1] (hatch_pen_fields), a layer per pen that has
+// The fields hatched at `coverage` (0, 1] (hatch::hatch_fields), a layer per pen that has
 // one, named as the pen. O(cells x pens + the lines).
 Drawing ground_drawing(const hatch::PenGrid& grid, const std::vector<Pen>& pens, const Placement& placement,
                        double coverage);
