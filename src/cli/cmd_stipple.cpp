@@ -148,7 +148,9 @@ class StippleDraft {
       throw UserError("--dot-size belongs to --law linear: the tone law sizes its dots for the tone (--max-dot caps them)");
     dot_cap_ = a.max_dot_mm > 0 ? std::max(a.max_dot_mm, pen_) : std::clamp(std::min(w, h) / 40, 4 * pen_, 8.0);
     // Statistics on a grid at half the pen: the area of each level of each pass.
-    reference_ = std::make_shared<StippleCanvas>(prepare_stipple(in.image, a.m, in.placement, pen_ / 2));
+    coarsest_ = std::max(pen_ / 2, in.draft_cell_mm);
+    reference_ = std::make_shared<StippleCanvas>(prepare_stipple(in.image, a.m, in.placement, coarsest_));
+    canvases_.emplace(coarsest_, reference_);  // a draw at this cell needs no second grid
     const double cell_area = reference_->grid.cell_mm * reference_->grid.cell_mm;
     area_mm2_ = static_cast<double>(reference_->grid.image.pixels()) * cell_area;
     for (const auto& pass : reference_->passes) {
@@ -184,8 +186,8 @@ class StippleDraft {
       const LevelDots ld = level_dots(*reference_, i, law, tf_.mm_per_px());
       r_min = std::min(r_min, ld.radius.min() * reference_->grid.cell_mm);
     }
-    if (!std::isfinite(r_min)) return pen_ / 2;
-    return std::clamp(r_min / 4, pen_ / 8, pen_ / 2);
+    if (!std::isfinite(r_min)) return coarsest_;
+    return std::max(std::clamp(r_min / 4, pen_ / 8, pen_ / 2), in_.draft_cell_mm);
   }
 
   double predict(double k) const {
@@ -206,7 +208,7 @@ class StippleDraft {
   void calibrate(double k) {
     if (a_.page.law != StippleLaw::Tone) return;
     const PageStipple law = law_at(k);
-    const double cell = std::min(2 * cell_at(k), pen_);
+    const double cell = std::max(std::min(2 * cell_at(k), pen_), 2 * in_.draft_cell_mm);
     const StippleCanvas pilot = prepare_stipple(in_.image, a_.m, in_.placement, cell);
     const Drawing d = stipple_on_page(pilot, law, tf_.mm_per_px(), a_.seed);
     const bool per_pass = d.layers.size() == pilot.passes.size();
@@ -317,6 +319,7 @@ class StippleDraft {
   std::vector<CoverageCurve> curves_;  // per pass: the pilot's tone reproduction curve
   double count_factor_ = 1;            // the pilot's dots / the law's
   std::map<double, std::shared_ptr<StippleCanvas>> canvases_;
+  double coarsest_ = 0;  // the reference grid's cell: half the pen, or a --draft's pixel
   std::vector<Pen> pens_;  // empty: the method's own inks (or screen colours)
   nlohmann::json choice_;  // how the budget chose the dots (null: asked for)
 };
@@ -333,7 +336,9 @@ class ConnectDraft {
     tf_ = in.placement.transform(in.image.width, in.image.height);
     pen_ = in.placement.pen_width_mm;
     if (in.placement.dot_size.value > 0) throw UserError("--dot-size belongs to --law linear: --connect draws lines");
-    reference_ = std::make_shared<StippleCanvas>(prepare_stipple(in.image, a.m, in.placement, pen_ / 2));
+    coarsest_ = std::max(pen_ / 2, in.draft_cell_mm);
+    reference_ = std::make_shared<StippleCanvas>(prepare_stipple(in.image, a.m, in.placement, coarsest_));
+    canvases_.emplace(coarsest_, reference_);  // a draw at this cell needs no second grid
     const double cell_area = reference_->grid.cell_mm * reference_->grid.cell_mm;
     const double area = static_cast<double>(reference_->grid.image.pixels()) * cell_area;
     const auto& pass = reference_->passes.at(0);
@@ -357,8 +362,8 @@ class ConnectDraft {
     const ConnectParams p = params_at(k);
     double r_min = std::numeric_limits<double>::infinity();
     for (int v = 0; v < 256; ++v) r_min = std::min(r_min, connect_spacing_mm(tone(v), pen_, p));
-    if (!std::isfinite(r_min)) return pen_ / 2;
-    return std::clamp(r_min / 2.5, pen_ / 5, pen_ / 2);
+    if (!std::isfinite(r_min)) return coarsest_;
+    return std::max(std::clamp(r_min / 2.5, pen_ / 5, pen_ / 2), in_.draft_cell_mm);
   }
 
   double predict(double k) const { return time_factor_ * raw_seconds(k) + in_.costs.motion().pen_change_s; }
@@ -370,7 +375,7 @@ class ConnectDraft {
   // lifts and their travel).
   void calibrate(double k) {
     const ConnectParams p = params_at(k);
-    const double cell = std::min(2 * cell_at(k), pen_);
+    const double cell = std::max(std::min(2 * cell_at(k), pen_), 2 * in_.draft_cell_mm);
     const StippleCanvas pilot = prepare_stipple(in_.image, a_.m, in_.placement, cell);
     const Drawing d = connect_on_page(pilot, p);
     const double predicted = raw_seconds(k);
@@ -455,6 +460,7 @@ class ConnectDraft {
   std::array<double, 256> level_area_{};
   CoverageCurve curve_;
   std::map<double, std::shared_ptr<StippleCanvas>> canvases_;
+  double coarsest_ = 0;  // the reference grid's cell: half the pen, or a --draft's pixel
   nlohmann::json choice_;  // how the budget chose the connected drawing (null: asked for)
 };
 

@@ -1,54 +1,19 @@
 // stipplot: photographs to pen-plotter drawings, and the plotter driver.
-#include <CLI/CLI.hpp>
 #include <malloc.h>
 
-#include <cstdio>
-#include <new>
-#include <string>
+#include <cstring>
 
-#include "cli/commands.hpp"
-#include "util/atomic_file.hpp"
-#include "util/error.hpp"
-
-namespace {
-// CLI11's messages may span lines; the error is one.
-std::string one_line(std::string s) {
-  for (char& c : s)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!s.empty() && s.back() == ' ') s.pop_back();
-  return s;
-}
-}  // namespace
+#include "cli/command_line.hpp"
+#include "serve/draft_worker.hpp"
 
 int main(int argc, char** argv) {
   // One malloc arena: a helper thread (the job timer beside a writer) would otherwise grow
   // an arena of its own instead of reusing what the main thread freed (a 1M-dot export
   // peaked at 339 MB instead of 286 MB). Our threads allocate little while they run.
   mallopt(M_ARENA_MAX, 1);
-  CLI::App app{"stipplot: turn photographs into drawings for pen plotters, and drive the plotters"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", "stipplot " STIPPLOT_VERSION);
-  stipplot::cli::register_all(app);
-  // Every file a command writes is staged and appears only once the command succeeded;
-  // leaving main any other way removes the temporaries.
-  stipplot::OutputBatch outputs;
-  try {
-    app.parse(argc, argv);
-    outputs.commit();
-  } catch (const CLI::ParseError& e) {
-    // --help and --version arrive as ParseErrors with exit code 0: CLI11 prints them.
-    if (e.get_exit_code() == 0) return app.exit(e);
-    std::fprintf(stderr, "stipplot: error: %s (see --help)\n", one_line(e.what()).c_str());
-    return 1;
-  } catch (const stipplot::UserError& e) {
-    std::fprintf(stderr, "stipplot: error: %s\n", e.what());
-    return 1;
-  } catch (const std::bad_alloc&) {
-    std::fprintf(stderr, "stipplot: error: out of memory (try a smaller image or --max-pixels)\n");
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "stipplot: internal error: %s\n", e.what());
-    return 70;
-  }
-  return 0;
+  // The studio's draft worker (serve/draft_worker.hpp), started by `stipplot serve` on a
+  // socket as its stdin; each draft is a command line run in a fork of it.
+  if (argc == 2 && std::strcmp(argv[1], stipplot::serve::kDraftWorkerArg) == 0)
+    return stipplot::serve::serve_drafts(0, &stipplot::cli::run_command_line);
+  return stipplot::cli::run_command_line(argc, argv);
 }

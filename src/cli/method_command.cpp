@@ -41,6 +41,7 @@ struct MethodCommand::Args {
   CLI::Option* view_sigma_option = nullptr;
   bool measure = false;                // the --measure of a method without one of its own
   int threads = 0;                     // 0: one per core (util/threads.hpp)
+  bool draft = false;                  // a quick look (the studio's while a control moves)
 };
 
 MethodRun::MethodRun(const Image& in, const PageTransform& tf, const MethodResult& r, const Plan& p,
@@ -228,6 +229,11 @@ std::shared_ptr<MethodCommand> MethodCommand::add(CLI::App& app, const std::stri
   add_layout_options(cmd, a.layout, false);
   cmd->add_option("--preview", a.preview, "Also write a preview PNG of what the pens will draw")->group("Output");
   cmd->add_option("--preview-dpi", a.preview_dpi, "Preview resolution")->capture_default_str()->group("Output");
+  cmd->add_flag("--draft", a.draft,
+               "A quick look, as the studio shows while a control moves: the method's page grid no finer than the "
+               "preview's pixels (--preview-dpi), the tour without improvement trials; close to the full drawing, not "
+               "the same")
+      ->group("Output");
   add_report_options(cmd, a.report);
   cmd->add_option("--max-pixels", a.max_pixels, "Refuse images with more pixels than this")
       ->capture_default_str()->group("Input");
@@ -430,12 +436,14 @@ void MethodCommand::run() const {
   const PageTransform tf = placement.transform(image.width, image.height);
   const DeviceProfile prof = find_profile(a.profile);
   const double budget_s = budget::parse_duration(a.time);
-  const PlanOptions po = plan_options_for(prof, Page{tf.page_w(), tf.page_h()}, a.plan);
+  PlanOptions po = plan_options_for(prof, Page{tf.page_w(), tf.page_h()}, a.plan);
+  if (a.draft) po.optimize_effort = 0;  // the local optimum: within a few per cent of the trials' travel
   const budget::MarkCosts costs(prof.motion, po);
 
   const auto t1 = std::chrono::steady_clock::now();
   // The draft may keep references to the input: it lives as long as the draft.
-  const MethodInput input{image, placement, costs, !a.report.json && !a.report.quiet, budget_s};
+  const MethodInput input{image, placement, costs, !a.report.json && !a.report.quiet, budget_s,
+                          a.draft ? 25.4 / a.preview_dpi : 0.0};
   const MethodDraft draft = prepare_(input);
   budget::SearchOutcome so;
   MethodResult r = draw_within_budget(draft, a.knob, budget_s, prof, po, so);

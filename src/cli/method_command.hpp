@@ -37,6 +37,9 @@ struct MethodInput {
   const budget::MarkCosts& costs;  // what marks cost on the chosen profile
   bool show_progress = false;      // a progress bar is welcome (no --json, no --quiet)
   double budget_s = 0;             // the --time budget in seconds (0: not known, a search's small copy)
+  // --draft: working grids on the page no finer than this (mm; 0: full resolution). The
+  // preview's pixel: finer cells would not show.
+  double draft_cell_mm = 0;
 };
 
 // What a method hands to the shared output path.

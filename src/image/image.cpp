@@ -85,13 +85,19 @@ Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, c
     throw UserError(name + ": image is " + std::to_string(w) + "x" + std::to_string(h) + " = " + std::to_string(px) +
                     " pixels, more than the limit of " + std::to_string(opt.max_pixels) + " (raise it with --max-pixels)");
 
-  unsigned char* data = stbi_load_from_memory(bytes, len, &w, &h, &comp, 4);
+  // An image without alpha decodes straight to RGB; one with alpha is composited on white.
+  const bool alpha = comp == 2 || comp == 4;
+  unsigned char* data = stbi_load_from_memory(bytes, len, &w, &h, &comp, alpha ? 4 : 3);
   if (!data) throw UserError(damaged(name, bytes, size));
   std::unique_ptr<unsigned char, void (*)(void*)> guard(data, &stbi_image_free);
 
   Image im;
   im.width = w;
   im.height = h;
+  if (!alpha) {
+    im.rgb.assign(data, data + static_cast<size_t>(px) * 3);
+    return im;
+  }
   im.rgb.resize(static_cast<size_t>(px) * 3);
   for (size_t i = 0; i < px; ++i) {
     const unsigned char* p = data + i * 4;
@@ -112,10 +118,16 @@ Image load_image(const std::string& path, const LoadOptions& opt) {
     if (err == ENOENT) throw UserError(path + ": no such file");
     throw UserError(path + ": cannot read: " + std::strerror(err));
   }
+  // Read in one piece when the size is known (a file), in chunks otherwise (a pipe).
   std::vector<uint8_t> bytes;
+  const auto known = fs::file_size(path, ec);
+  if (!ec && known > static_cast<uintmax_t>(INT32_MAX)) throw UserError(path + ": file is larger than 2 GB");
+  if (!ec) bytes.resize(static_cast<size_t>(known));
+  size_t have = std::fread(bytes.data(), 1, bytes.size(), f.get());
+  bytes.resize(have);
   uint8_t buf[1 << 16];
   size_t got;
-  while ((got = std::fread(buf, 1, sizeof buf, f.get())) > 0) {
+  while (!std::ferror(f.get()) && (got = std::fread(buf, 1, sizeof buf, f.get())) > 0) {
     bytes.insert(bytes.end(), buf, buf + got);
     if (bytes.size() > static_cast<size_t>(INT32_MAX)) throw UserError(path + ": file is larger than 2 GB");
   }

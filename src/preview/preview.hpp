@@ -32,5 +32,9 @@ Image render_preview(const Drawing& drawing, const PreviewOptions& opt = {});
 void write_preview_png(const Drawing& drawing, const std::string& path, const PreviewOptions& opt = {});
 // Writes any RGB image as PNG (through Cairo), atomically.
 void write_png(const Image& image, const std::string& path);
+// An uncompressed 24-bit TGA: read 10x faster than a PNG (and 5x faster than a BMP, which
+// stb_image reads a byte at a time): the studio's reduced photo, read by every draft.
+// Atomic like every output.
+void write_tga(const Image& image, const std::string& path);
 
 }  // namespace stipplot

@@ -49,6 +49,14 @@ class Child {
   std::mutex in_mutex_;
 };
 
+// The environment children start with: the server's, with glibc's malloc putting large
+// blocks on transparent huge pages unless GLIBC_TUNABLES already names that tunable.
+std::vector<std::string> child_environment();
+
+// Reads two pipes (a child's stdout and stderr) into r until both are closed; each
+// complete stderr line also goes to on_err_line. O(output).
+void read_outputs(int out_fd, int err_fd, ChildResult& r, const std::function<void(const std::string&)>& on_err_line = {});
+
 // Runs argv to its end. O(output).
 // A child's --json line (the last line it printed) as JSON; an empty object when it is not.
 nlohmann::json last_json_line(const std::string& out);

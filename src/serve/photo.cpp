@@ -73,8 +73,8 @@ Photo accept_photo(const std::string& bytes, const fs::path& workdir, uint64_t m
   p.width = im.width;
   p.height = im.height;
   const Image d = reduced(im, draft_pixels);
-  p.draft_name = "photo-draft.png";
-  write_png(d, (workdir / p.draft_name).string());
+  p.draft_name = "photo-draft.tga";  // read by every draft: an uncompressed TGA reads 10x faster than a PNG
+  write_tga(d, (workdir / p.draft_name).string());
   p.draft_width = d.width;
   p.draft_height = d.height;
   return p;

@@ -11,7 +11,7 @@ namespace stipplot::serve {
 
 struct Photo {
   std::string name;        // in the working folder: photo.jpg / photo.png / ...
-  std::string draft_name;  // photo-draft.png, at most the draft's pixels
+  std::string draft_name;  // photo-draft.tga, at most the draft's pixels
   std::string original_name;
   int width = 0, height = 0, draft_width = 0, draft_height = 0;
   nlohmann::json to_json() const;

@@ -12,6 +12,7 @@
 
 #include "drivers/stream/journal.hpp"
 #include "serve/child.hpp"
+#include "serve/draft_worker.hpp"
 #include "serve/photo.hpp"
 #include "serve/plot_session.hpp"
 #include "serve/settings.hpp"
@@ -68,7 +69,7 @@ struct Studio::Impl {
   std::mutex m;                   // guards everything below
   std::optional<Photo> photo;     // the uploaded photo and its reduced copy
   uint64_t preview_gen = 0;       // the newest preview asked for
-  std::vector<std::shared_ptr<Child>> preview_children;  // its work, ended when superseded
+  std::vector<std::function<void()>> preview_cancels;  // end its work when superseded
   std::optional<Settings> settings;  // the last full-size settings: downloads and plots use them
   json last_preview = nullptr;
   std::map<std::string, std::shared_ptr<PlotSession>> plots;  // by port: one plot per device
@@ -78,13 +79,33 @@ struct Studio::Impl {
 
   std::string path_in_work(const std::string& name) const { return (cfg.workdir / name).string(); }
 
-  // Runs argv as part of preview `gen`; nullopt when a newer preview superseded it.
-  std::optional<ChildResult> run_for_preview(uint64_t gen, const std::vector<std::string>& argv) {
+  // Drafts run in forks of one started worker: no program start each (draft_worker.hpp).
+  DraftWorker drafts{{cfg.executable, kDraftWorkerArg}};
+
+  // Runs argv as part of preview `gen`; nullopt when a newer preview superseded it. A
+  // draft runs in the draft worker, or as a process of its own if the worker fails.
+  std::optional<ChildResult> run_for_preview(uint64_t gen, const std::vector<std::string>& argv, bool draft = false) {
+    if (draft) {
+      auto job = std::make_shared<DraftWorker::Job>();
+      {
+        std::lock_guard<std::mutex> lock(m);
+        if (gen != preview_gen) return std::nullopt;
+        preview_cancels.push_back([this, job] { drafts.cancel(*job); });
+      }
+      try {
+        ChildResult r = drafts.run(argv, cfg.workdir.string(), *job);
+        if (r.cancelled) return std::nullopt;
+        return r;
+      } catch (const std::runtime_error& e) {
+        std::fprintf(stderr, "stipplot serve: %s; the draft runs as a process of its own\n", e.what());
+        if (job->cancelled.load()) return std::nullopt;
+      }
+    }
     auto child = std::make_shared<Child>();
     {
       std::lock_guard<std::mutex> lock(m);
       if (gen != preview_gen) return std::nullopt;
-      preview_children.push_back(child);
+      preview_cancels.push_back([child] { child->cancel(); });
     }
     child->start(argv, cfg.workdir.string());
     ChildResult r = child->wait();
@@ -94,8 +115,8 @@ struct Studio::Impl {
 
   uint64_t begin_preview(const Settings& s, bool draft) {
     std::lock_guard<std::mutex> lock(m);
-    for (auto& c : preview_children) c->cancel();
-    preview_children.clear();
+    for (auto& cancel : preview_cancels) cancel();
+    preview_cancels.clear();
     if (!draft) settings = s;
     return ++preview_gen;
   }
@@ -167,7 +188,8 @@ json Studio::Impl::preview(const Settings& s, bool draft) {
   for (const char* a : {"--preview", "", "--preview-dpi", "", "--json"}) argv.push_back(a);
   argv[argv.size() - 4] = stem + ".png";
   argv[argv.size() - 2] = draft ? "80" : "150";  // a draft only has to look right on screen
-  auto made = run_for_preview(gen, argv);
+  if (draft) argv.push_back("--draft");
+  auto made = run_for_preview(gen, argv, draft);
   if (!made) return {{"superseded", true}};
   if (made->exit_code != 0) throw RequestError(400, error_line(*made));
   json summary = last_json_line(made->out);
@@ -284,7 +306,7 @@ Studio::Studio(StudioConfig cfg) : impl_(std::make_unique<Impl>(std::move(cfg)))
 Studio::~Studio() {
   stop();
   std::lock_guard<std::mutex> lock(impl_->m);
-  for (auto& c : impl_->preview_children) c->cancel();
+  for (auto& cancel : impl_->preview_cancels) cancel();
   for (auto& [port, session] : impl_->plots) session->abort_and_join();
 }
 
@@ -421,8 +443,8 @@ void Studio::Impl::photo_route() {
     Photo p = accept_photo(req.body, cfg.workdir, cfg.max_pixels, cfg.draft_pixels);
     p.original_name = req.get_header_value("X-Filename");
     std::lock_guard<std::mutex> lock(m);
-    for (auto& c : preview_children) c->cancel();
-    preview_children.clear();
+    for (auto& cancel : preview_cancels) cancel();
+    preview_cancels.clear();
     ++preview_gen;
     last_preview = nullptr;
     photo = p;

@@ -3,6 +3,8 @@
 #include <catch2/catch.hpp>
 
 #include "preview/preview.hpp"
+#include "test_util.hpp"
+#include "util/error.hpp"
 
 using namespace stipplot;
 
@@ -68,4 +70,46 @@ TEST_CASE("ink lighter than the paper covers it, as a gel pen does", "[preview]"
   CHECK(at(im, 5, 5) == colors::white);
   CHECK(at(im, 12, 5) == colors::black);
   CHECK(at(im, 18, 8) == colors::grey);
+}
+
+TEST_CASE("the first pen, drawn straight on the paper, looks as it does drawn after another pen", "[preview]") {
+  // The first layer skips the page-sized group (its composite over bare paper is the ink
+  // times the paper); a later layer is composited as a group. Both give the same pixels.
+  PlannedLayer ink, far;
+  ink.pen = Pen{"blue", Color{40, 60, 200}, 0.7};
+  ink.strokes.push_back({{{3, 3}, {15, 7.3}}});
+  ink.strokes.push_back({{{6, 6.2}}});
+  far.pen = Pen{"red", Color{200, 30, 30}, 0.5};
+  far.strokes.push_back({{{19.5, 0.5}}});  // away from the blue ink
+  for (const Color paper : {colors::white, Color{230, 220, 180}}) {
+    Plan alone = page_plan(paper), second = page_plan(paper);
+    alone.layers = {ink};
+    second.layers = {far, ink};
+    const Image a = render_plan(alone, opts()), b = render_plan(second, opts());
+    REQUIRE(a.rgb.size() == b.rgb.size());
+    int worst = 0;
+    for (size_t i = 0; i < a.rgb.size(); ++i)
+      if (i / 3 % a.width < 190) worst = std::max(worst, std::abs(int{a.rgb[i]} - int{b.rgb[i]}));
+    CHECK(worst <= 1);  // rounding of the composite
+    CHECK(at(a, 9, 5.15) != paper);  // the stroke is there
+  }
+}
+
+TEST_CASE("images written as PNG and TGA read back pixel for pixel", "[preview][image]") {
+  test::TempDir t;
+  Image im;
+  im.width = 37;
+  im.height = 11;
+  im.rgb.resize(im.pixels() * 3);
+  for (size_t i = 0; i < im.rgb.size(); ++i) im.rgb[i] = static_cast<uint8_t>(i * 7 % 251);
+  write_png(im, t.file("a.png"));
+  write_tga(im, t.file("a.tga"));
+  for (const char* f : {"a.png", "a.tga"}) {
+    const Image back = load_image(t.file(f));
+    CHECK(back.width == im.width);
+    CHECK(back.height == im.height);
+    CHECK(back.rgb == im.rgb);
+  }
+  CHECK_THROWS_AS(write_png(Image{}, t.file("empty.png")), UserError);
+  CHECK_FALSE(std::filesystem::exists(t.file("empty.png")));
 }
