@@ -12,6 +12,7 @@
 // belongs in MethodCommand::run.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <future>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -122,6 +123,9 @@ class MethodRun {
   Image preview_over_image();
   // The preview as a whole page, rendered once; written to --preview by MethodCommand.
   const Image& preview_page();
+  // Renders the preview on a thread of its own, while the caller writes the other
+  // outputs; preview_page() waits for it. Call before anything else reads the preview.
+  void render_preview_beside();
   // The pen-true render (or the screen-colour paint, see MethodResult) at one pixel per
   // input pixel (at least 150 dpi), cut to the image's rectangle: what a measure compares
   // with the input. `opaque`: every pen's ink painted over what is under it instead.
@@ -130,9 +134,11 @@ class MethodRun {
   Image render_page(double px_per_mm) const;
 
  private:
+  Image render_preview_page() const;
   double preview_dpi_;
   std::string notes_;
   std::unique_ptr<Image> preview_;
+  std::future<void> rendering_;
 };
 
 // "640x480 px", as the sentences give an image's size.
