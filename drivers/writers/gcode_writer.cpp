@@ -88,6 +88,10 @@ class GcodeEmitter {
 
  private:
   void emit(const std::string& line) {
+    if (recording_) {
+      recording_->push_back(line);
+      return;
+    }
     sink_(line);
     if (opt_.also) opt_.also(line);
   }
@@ -161,8 +165,42 @@ class GcodeEmitter {
     emit(line);
   }
 
+  // The pen's moves are the same lines every time: made once, then emitted as they are
+  // (a 1M-dot job has 2M of them, and printing their numbers was a tenth of its writing).
+  // A Z axis's moves set the modal feed, which the XY moves depend on: made each time.
   void pen_down() {
     if (down_) return;
+    if (p_.pen.method == PenMethod::z_axis) {
+      make_pen_down();
+    } else {
+      if (down_lines_.empty()) down_lines_ = recorded([this] { make_pen_down(); });
+      for (const auto& l : down_lines_) emit(l);
+    }
+    down_ = true;
+  }
+
+  void pen_up(bool force) {
+    if (!down_ && !force) return;
+    if (p_.pen.method == PenMethod::z_axis) {
+      make_pen_up();
+    } else {
+      if (up_lines_.empty()) up_lines_ = recorded([this] { make_pen_up(); });
+      for (const auto& l : up_lines_) emit(l);
+    }
+    down_ = false;
+  }
+
+  // The lines f emits, recorded instead.
+  template <class F>
+  std::vector<std::string> recorded(F&& f) {
+    std::vector<std::string> lines;
+    recording_ = &lines;
+    f();
+    recording_ = nullptr;
+    return lines;
+  }
+
+  void make_pen_down() {
     std::string line;
     switch (p_.pen.method) {
       case PenMethod::servo:
@@ -183,11 +221,9 @@ class GcodeEmitter {
       case PenMethod::ebb:
         throw std::logic_error("G-code writer given an HPGL or EBB profile");
     }
-    down_ = true;
   }
 
-  void pen_up(bool force) {
-    if (!down_ && !force) return;
+  void make_pen_up() {
     std::string line;
     switch (p_.pen.method) {
       case PenMethod::servo:
@@ -208,7 +244,6 @@ class GcodeEmitter {
       case PenMethod::ebb:
         throw std::logic_error("G-code writer given an HPGL or EBB profile");
     }
-    down_ = false;
   }
 
   void stroke(const Stroke& s) {
@@ -246,6 +281,8 @@ class GcodeEmitter {
   bool have_pos_ = false;
   bool down_ = false;
   double feed_ = -1;
+  std::vector<std::string> down_lines_, up_lines_;  // the pen's moves, once made
+  std::vector<std::string>* recording_ = nullptr;
 };
 
 }  // namespace
@@ -256,6 +293,13 @@ void write_gcode(const Plan& plan, const DeviceProfile& profile, const LineSink&
   check_plan_fits(plan, profile);
   GcodeEmitter(plan, profile, sink, opt).run();
 }
+
+namespace {
+// write_gcode for a plan already checked against the device.
+void write_checked_gcode(const Plan& plan, const DeviceProfile& profile, const LineSink& sink, const GcodeOptions& opt) {
+  GcodeEmitter(plan, profile, sink, opt).run();
+}
+}  // namespace
 
 std::vector<std::string> gcode_lines(const Plan& plan, const DeviceProfile& profile, const GcodeOptions& opt) {
   std::vector<std::string> out;
@@ -268,7 +312,7 @@ void write_gcode_file(const Plan& plan, const DeviceProfile& profile, const std:
   if (profile.protocol != Protocol::grbl)
     throw UserError("profile " + profile.name + " speaks " + to_string(profile.protocol) + ", not G-code; write .hpgl");
   check_plan_fits(plan, profile);  // before the file is created
-  write_lines_atomic(path, [&](const LineSink& sink) { write_gcode(plan, profile, sink, opt); });
+  write_lines_atomic(path, [&](const LineSink& sink) { write_checked_gcode(plan, profile, sink, opt); });
 }
 
 }  // namespace stipplot

@@ -10,6 +10,7 @@
 #include "plan/tour.hpp"
 #include "spatial/mst.hpp"
 #include "util/rng.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 
@@ -202,4 +203,31 @@ TEST_CASE("perturbation stops early where its rounds stop paying, the same way e
   opt.kicks = 6000;
   plan::plan_tour(dots.pts, dots.partner, {0, 0}, opt, &st);
   CHECK(st.kicks == opt.kicks);
+}
+
+TEST_CASE("a tour of over 250,000 nodes is planned as two halves: the same path on 1 and 2 threads, as short", "[plan][tour][threads]") {
+  const Nodes s = random_nodes(300'000, 400, 0.2, false, 23);
+  const Vec2 start{0, 0};
+  plan::TourOptions opt;
+  opt.kicks = 30'000;
+  std::vector<uint32_t> order[2];
+  for (const int threads : {1, 2}) {
+    set_thread_count(threads);
+    plan::TourStats st;
+    order[threads - 1] = plan::plan_tour(s.pts, s.partner, start, opt, &st);
+    CHECK_FALSE(st.capped);
+  }
+  set_thread_count(0);
+  check_path(s, order[0]);
+  // (compared as a count of differing places: Catch would print 300,000 numbers)
+  size_t differ = 0;
+  for (size_t i = 0; i < order[0].size() && i < order[1].size(); ++i) differ += order[0][i] != order[1][i];
+  CHECK(order[0].size() == order[1].size());
+  CHECK(differ == 0);
+  // The halves' seam costs one jump: the path stays as short as a whole one's (1.15 x MST).
+  const double mst = spatial::total_cost(spatial::euclidean_mst(s.pts));
+  const double t = travel(s, start, order[0]);
+  INFO("travel / MST " << t / mst);
+  CHECK(t < 1.16 * mst);
+  CHECK(std::hypot(s.pts[order[0][0]].x, s.pts[order[0][0]].y) < 5.0);  // begins at the pen
 }
