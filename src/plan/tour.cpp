@@ -157,6 +157,7 @@ std::vector<uint32_t> plan_split(const std::vector<Vec2>& pts, const std::vector
       h.partner.push_back(static_cast<int32_t>(h.pts.size() - 2));
     }
   }
+  std::vector<uint32_t>().swap(units);  // a million-node path's memory is its budget
   const Vec2 on_cut = along_x ? Vec2{cut, std::clamp(start.y, lo.y, hi.y)} : Vec2{std::clamp(start.x, lo.x, hi.x), cut};
   const Vec2 from[2] = {start, on_cut};
   std::vector<uint32_t> order[2];
@@ -197,8 +198,10 @@ std::vector<uint32_t> plan_split(const std::vector<Vec2>& pts, const std::vector
   }
   std::vector<uint32_t> out;
   out.reserve(n);
-  for (int k = 0; k < 2; ++k)
+  for (int k = 0; k < 2; ++k) {
     for (uint32_t v : order[k]) out.push_back(half[k].id[v]);
+    std::vector<uint32_t>().swap(order[k]);
+  }
   if (stats) {
     TourStats& s = *stats;
     s = TourStats{};
