@@ -167,27 +167,24 @@ class GcodeEmitter {
 
   // The pen's moves are the same lines every time: made once, then emitted as they are
   // (a 1M-dot job has 2M of them, and printing their numbers was a tenth of its writing).
-  // A Z axis's moves set the modal feed, which the XY moves depend on: made each time.
   void pen_down() {
     if (down_) return;
-    if (p_.pen.method == PenMethod::z_axis) {
-      make_pen_down();
-    } else {
-      if (down_lines_.empty()) down_lines_ = recorded([this] { make_pen_down(); });
-      for (const auto& l : down_lines_) emit(l);
-    }
+    pen_move(true);
     down_ = true;
   }
 
   void pen_up(bool force) {
     if (!down_ && !force) return;
-    if (p_.pen.method == PenMethod::z_axis) {
-      make_pen_up();
-    } else {
-      if (up_lines_.empty()) up_lines_ = recorded([this] { make_pen_up(); });
-      for (const auto& l : up_lines_) emit(l);
-    }
+    pen_move(false);
     down_ = false;
+  }
+
+  // A Z axis's moves set the modal feed, which the XY moves depend on: made each time.
+  void pen_move(bool down) {
+    if (p_.pen.method == PenMethod::z_axis) return down ? make_pen_down() : make_pen_up();
+    std::vector<std::string>& lines = down ? down_lines_ : up_lines_;
+    if (lines.empty()) lines = recorded([&] { down ? make_pen_down() : make_pen_up(); });
+    for (const auto& l : lines) emit(l);
   }
 
   // The lines f emits, recorded instead.

@@ -44,6 +44,13 @@ std::string self_executable() {
   return std::string(buf, static_cast<size_t>(n));
 }
 
+ExecArgs::ExecArgs(std::vector<std::string> argv) : args_(std::move(argv)), env_(child_environment()) {
+  for (auto& a : args_) argv_.push_back(a.data());
+  argv_.push_back(nullptr);
+  for (auto& e : env_) envp_.push_back(e.data());
+  envp_.push_back(nullptr);
+}
+
 Child::~Child() {
   cancel();
   if (pid_.load() > 0) ::waitpid(pid_.load(), nullptr, 0);
@@ -55,13 +62,7 @@ void Child::start(const std::vector<std::string>& argv, const std::string& cwd) 
   int in[2], out[2], err[2];
   if (::pipe2(in, O_CLOEXEC) != 0 || ::pipe2(out, O_CLOEXEC) != 0 || ::pipe2(err, O_CLOEXEC) != 0)
     throw std::runtime_error("cannot make pipes for a child process");
-  std::vector<char*> args;
-  for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const std::vector<std::string> env_strings = child_environment();
-  std::vector<char*> env;
-  for (const auto& e : env_strings) env.push_back(const_cast<char*>(e.c_str()));
-  env.push_back(nullptr);
+  const ExecArgs exec(argv);
   const pid_t pid = ::fork();
   if (pid < 0) throw std::runtime_error("cannot start a child process");
   if (pid == 0) {
@@ -70,7 +71,7 @@ void Child::start(const std::vector<std::string>& argv, const std::string& cwd) 
     ::dup2(out[1], 1);
     ::dup2(err[1], 2);
     if (!cwd.empty() && ::chdir(cwd.c_str()) != 0) ::_exit(127);
-    ::execve(args[0], args.data(), env.data());
+    ::execve(exec.argv()[0], exec.argv(), exec.envp());
     ::_exit(127);
   }
   ::close(in[0]);

@@ -53,6 +53,19 @@ class Child {
 // blocks on transparent huge pages unless GLIBC_TUNABLES already names that tunable.
 std::vector<std::string> child_environment();
 
+// A command line and the children's environment as execve takes them, made before fork:
+// nothing may be allocated between fork and exec in a server with threads.
+class ExecArgs {
+ public:
+  explicit ExecArgs(std::vector<std::string> argv);
+  char* const* argv() const { return argv_.data(); }
+  char* const* envp() const { return envp_.data(); }
+
+ private:
+  std::vector<std::string> args_, env_;
+  std::vector<char*> argv_, envp_;
+};
+
 // Reads two pipes (a child's stdout and stderr) into r until both are closed; each
 // complete stderr line also goes to on_err_line. O(output).
 void read_outputs(int out_fd, int err_fd, ChildResult& r, const std::function<void(const std::string&)>& on_err_line = {});

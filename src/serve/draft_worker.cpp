@@ -193,13 +193,7 @@ void DraftWorker::start() {
   int sv[2];
   if (::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, sv) != 0)
     throw std::runtime_error("cannot make the draft worker's socket");
-  std::vector<char*> args;
-  for (const auto& a : start_argv_) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  const std::vector<std::string> env_strings = child_environment();
-  std::vector<char*> env;
-  for (const auto& e : env_strings) env.push_back(const_cast<char*>(e.c_str()));
-  env.push_back(nullptr);
+  const ExecArgs exec(start_argv_);
   const pid_t pid = ::fork();
   if (pid < 0) {
     ::close(sv[0]);
@@ -211,7 +205,7 @@ void DraftWorker::start() {
     ::dup2(sv[1], 0);
     const int nul = ::open("/dev/null", O_WRONLY);
     if (nul >= 0) ::dup2(nul, 1);
-    ::execve(args[0], args.data(), env.data());
+    ::execve(exec.argv()[0], exec.argv(), exec.envp());
     ::_exit(127);
   }
   ::close(sv[1]);

@@ -19,6 +19,12 @@ std::vector<std::string> stipple_args(const std::string& out) {
   return {"stipplot", "stipple", test::example("coffee.png"), "-o", out, "--seed", "4", "--json", "--draft",
           "--preview", out + ".png", "--preview-dpi", "60"};
 }
+
+// One draft nobody cancels.
+ChildResult run_in(DraftWorker& w, const std::vector<std::string>& args, const test::TempDir& t) {
+  DraftWorker::Job job;
+  return w.run(args, t.path.string(), job);
+}
 }  // namespace
 
 TEST_CASE("draft worker: a command's files, output and exit code are those of its own process", "[serve][draft]") {
@@ -38,19 +44,16 @@ TEST_CASE("draft worker: a command's files, output and exit code are those of it
   CHECK(test::read_file(t.file("w.svg.png")) == test::read_file(t.file("c.svg.png")));
 
   // A user's error: the CLI's one line on stderr, exit 1, and the worker serves on.
-  DraftWorker::Job bad;
-  const ChildResult e = w.run({"stipplot", "stipple", "missing.png", "-o", "x.svg"}, t.path.string(), bad);
+  const ChildResult e = run_in(w, {"stipplot", "stipple", "missing.png", "-o", "x.svg"}, t);
   CHECK(e.exit_code == 1);
   CHECK(e.err.find("stipplot: error: missing.png: no such file") != std::string::npos);
-  DraftWorker::Job again;
-  CHECK(w.run(stipple_args("again.svg"), t.path.string(), again).exit_code == 0);
+  CHECK(run_in(w, stipple_args("again.svg"), t).exit_code == 0);
 }
 
 TEST_CASE("draft worker: a cancelled draft ends at once, the next one runs", "[serve][draft]") {
   test::TempDir t;
   DraftWorker w({STIPPLOT_BIN, kDraftWorkerArg});
-  DraftWorker::Job first;
-  REQUIRE(w.run(stipple_args("a.svg"), t.path.string(), first).exit_code == 0);  // the worker is up
+  REQUIRE(run_in(w, stipple_args("a.svg"), t).exit_code == 0);  // the worker is up
   // A long command (the 4-hour stipple of a photo at full size, seconds of work).
   DraftWorker::Job slow;
   std::thread canceller([&] {
@@ -71,21 +74,18 @@ TEST_CASE("draft worker: a cancelled draft ends at once, the next one runs", "[s
   w.cancel(never);
   CHECK(w.run(stipple_args("never.svg"), t.path.string(), never).cancelled);
   CHECK_FALSE(std::filesystem::exists(t.file("never.svg")));
-  DraftWorker::Job next;
-  CHECK(w.run(stipple_args("b.svg"), t.path.string(), next).exit_code == 0);
+  CHECK(run_in(w, stipple_args("b.svg"), t).exit_code == 0);
 }
 
 TEST_CASE("draft worker: a worker that has died is started again", "[serve][draft]") {
   test::TempDir t;
   DraftWorker w({STIPPLOT_BIN, kDraftWorkerArg});
-  DraftWorker::Job first;
-  REQUIRE(w.run(stipple_args("a.svg"), t.path.string(), first).exit_code == 0);
+  REQUIRE(run_in(w, stipple_args("a.svg"), t).exit_code == 0);
   const pid_t dead = w.worker_pid();
   REQUIRE(dead > 0);
   REQUIRE(::kill(dead, SIGKILL) == 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  DraftWorker::Job next;
-  const ChildResult r = w.run(stipple_args("b.svg"), t.path.string(), next);
+  const ChildResult r = run_in(w, stipple_args("b.svg"), t);
   CHECK(r.exit_code == 0);
   CHECK(w.worker_pid() != dead);
   CHECK(std::filesystem::exists(t.file("b.svg")));
