@@ -1,5 +1,6 @@
 #include "drivers/writers/gcode_writer.hpp"
 
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -23,8 +24,9 @@ int decimals_for(double step) {
 // Prints v with at most `decimals` digits, trailing zeros and a lone point trimmed.
 void append_number(std::string& out, double v, int decimals) {
   char buf[48];
-  int n = std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string_view s(buf, static_cast<size_t>(n));
+  // to_chars prints as printf's "%.*f" does, without its format parsing.
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
+  std::string_view s(buf, static_cast<size_t>(r.ptr - buf));
   if (s.find('.') != std::string_view::npos) {
     while (s.back() == '0') s.remove_suffix(1);
     if (s.back() == '.') s.remove_suffix(1);
@@ -118,8 +120,8 @@ class GcodeEmitter {
     }
     int64_t whole = v / pow10_, frac = v % pow10_;
     char buf[32];
-    int n = std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(whole));
-    out.append(buf, static_cast<size_t>(n));
+    const auto r = std::to_chars(buf, buf + sizeof buf, whole);
+    out.append(buf, static_cast<size_t>(r.ptr - buf));
     if (frac) {
       char digits[16];
       int d = decimals_;
