@@ -337,6 +337,35 @@ TEST_CASE("An LM job is refused in one line on EBB firmware before 2.7, before a
   CHECK(heard == "V;");  // nothing of the job was sent
 }
 
+TEST_CASE("A V answer's tail left on the line by a dropped link is not taken for the board's answer", "[ebb]") {
+  // The link came back while the board answered a dead host's V: the host's drain took the
+  // head, "Version 3.0.2" is what is left when its own V goes out (a CI run saw it).
+  auto [host, board] = io::make_pipe();
+  std::string heard;
+  std::thread fw([&, board = board] {
+    char buf[256];
+    std::string in;
+    int vs = 0;
+    for (;;) {
+      const long n = board->read(buf, sizeof buf, std::chrono::milliseconds(2000));
+      if (n <= 0) return;
+      in.append(buf, static_cast<size_t>(n));
+      for (size_t eol; (eol = in.find('\r')) != std::string::npos; in.erase(0, eol + 1)) {
+        const std::string cmd = in.substr(0, eol);
+        heard += cmd + ";";
+        if (cmd == "V") board->write(vs++ == 0 ? "Version 3.0.2\r\n" : "EBBv13_and_above EB Firmware Version 3.0.2\r\n");
+        else board->write("OK\r\n");
+      }
+    }
+  });
+  io::LoopbackTransport t(host);
+  io::ebb::Streamer s(t, io::ebb::Options{});
+  REQUIRE_NOTHROW(s.connect());
+  t.close();
+  fw.join();
+  CHECK(heard.rfind("V;V;", 0) == 0);
+}
+
 TEST_CASE("EBB firmware versions: 2.5 to 3.x, and what is not an EBB", "[ebb]") {
   const auto v3 = io::ebb::parse_firmware("EBBv13_and_above EB Firmware Version 3.0.2");
   CHECK(v3.major == 3);

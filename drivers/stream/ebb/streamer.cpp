@@ -143,10 +143,13 @@ void Streamer::connect() {
         if (incoming_.find("EBB") != std::string::npos) t_.write("V\r");
         continue;
       }
-      if (line.find("EBB") != std::string::npos || line.find("Version") != std::string::npos) {
+      if (line.find("EBB") != std::string::npos) {
         v = line;
         break;
       }
+      // The tail of an answer the drain above cut short ("Version 3.0.2": the link came
+      // back while the board was answering a dead host's V): ours is still to come.
+      if (line.find("Version") != std::string::npos) t_.write("V\r");
     }
   }
   if (v.empty())
