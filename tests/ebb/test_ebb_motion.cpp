@@ -1,5 +1,6 @@
 // The EBB's profiles, job reader, SM slicing and firmware check, without the firmware.
 #include <catch2/catch.hpp>
+#include <functional>
 
 #include <cmath>
 #include <cstdlib>
@@ -309,11 +310,12 @@ TEST_CASE("EBB job reader tracks motors, pen and the firmware's time", "[ebb]") 
   CHECK_THROWS_WITH(io::parse_ebb_job("SM,21,0,9223372036854775807\n", 80), Catch::Contains("out of range"));
 }
 
-TEST_CASE("An LM job is refused in one line on EBB firmware before 2.7, before anything moves", "[ebb]") {
-  auto [host, board] = io::make_pipe();
-  // A 2.6 board: it answers V, and the test reads whatever else the host sends.
-  std::string heard;
-  std::thread fw([&, board = board] {
+namespace {
+// A board on the pipe's far end: each command (up to its '\r') is recorded in `heard` as
+// "CMD;" and answered with answer(cmd), until the host has been silent for 2 s.
+std::thread fake_board(std::shared_ptr<io::PipeEnd> board, std::function<std::string(const std::string&)> answer,
+                       std::string& heard) {
+  return std::thread([board, answer, &heard] {
     char buf[256];
     std::string in;
     for (;;) {
@@ -323,10 +325,20 @@ TEST_CASE("An LM job is refused in one line on EBB firmware before 2.7, before a
       for (size_t eol; (eol = in.find('\r')) != std::string::npos; in.erase(0, eol + 1)) {
         const std::string cmd = in.substr(0, eol);
         heard += cmd + ";";
-        board->write(cmd == "V" ? "EBBv13_and_above EB Firmware Version 2.6.5\r\n" : "OK\r\n");
+        board->write(answer(cmd));
       }
     }
   });
+}
+}  // namespace
+
+TEST_CASE("An LM job is refused in one line on EBB firmware before 2.7, before anything moves", "[ebb]") {
+  auto [host, board] = io::make_pipe();
+  // A 2.6 board: it answers V, and the test reads whatever else the host sends.
+  std::string heard;
+  std::thread fw = fake_board(
+      board, [](const std::string& cmd) { return cmd == "V" ? "EBBv13_and_above EB Firmware Version 2.6.5\r\n" : "OK\r\n"; },
+      heard);
   io::LoopbackTransport t(host);
   io::ebb::Streamer s(t, io::ebb::Options{});
   s.connect();
@@ -342,22 +354,14 @@ TEST_CASE("A V answer's tail left on the line by a dropped link is not taken for
   // head, "Version 3.0.2" is what is left when its own V goes out (a CI run saw it).
   auto [host, board] = io::make_pipe();
   std::string heard;
-  std::thread fw([&, board = board] {
-    char buf[256];
-    std::string in;
-    int vs = 0;
-    for (;;) {
-      const long n = board->read(buf, sizeof buf, std::chrono::milliseconds(2000));
-      if (n <= 0) return;
-      in.append(buf, static_cast<size_t>(n));
-      for (size_t eol; (eol = in.find('\r')) != std::string::npos; in.erase(0, eol + 1)) {
-        const std::string cmd = in.substr(0, eol);
-        heard += cmd + ";";
-        if (cmd == "V") board->write(vs++ == 0 ? "Version 3.0.2\r\n" : "EBBv13_and_above EB Firmware Version 3.0.2\r\n");
-        else board->write("OK\r\n");
-      }
-    }
-  });
+  int vs = 0;
+  std::thread fw = fake_board(
+      board,
+      [&vs](const std::string& cmd) -> std::string {
+        if (cmd != "V") return "OK\r\n";
+        return vs++ == 0 ? "Version 3.0.2\r\n" : "EBBv13_and_above EB Firmware Version 3.0.2\r\n";
+      },
+      heard);
   io::LoopbackTransport t(host);
   io::ebb::Streamer s(t, io::ebb::Options{});
   REQUIRE_NOTHROW(s.connect());
