@@ -110,12 +110,12 @@ int exit_code_of(int status) { return WIFEXITED(status) ? WEXITSTATUS(status) : 
     std::fprintf(stderr, "stipplot: error: cannot enter the folder %s\n", cwd.c_str());
     ::_exit(1);
   }
-  std::vector<std::string> args = req.at("args").get<std::vector<std::string>>();
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
   int code = 70;
-  try {
+  try {  // a request's arguments that are not strings end here too, not in std::terminate
+    std::vector<std::string> args = req.at("args").get<std::vector<std::string>>();
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
     code = run(static_cast<int>(args.size()), argv.data());
   } catch (...) {
     std::fprintf(stderr, "stipplot: internal error: the draft failed\n");
