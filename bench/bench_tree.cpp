@@ -163,6 +163,34 @@ void BM_ForestTrails(benchmark::State& state) {
 }
 BENCHMARK(BM_ForestTrails)->Arg(100000)->Unit(benchmark::kMillisecond)->Iterations(3);
 
+// The loops two pens wide (--weight 2) against the single-line trails of the same tree, in
+// one process: the ratio is the figure (O((V + E log degree) 4) against the trails' O(V + E)).
+void BM_ForestOutlines(benchmark::State& state) {
+  const PointSet& pts = photo_points(size_t(state.range(0)));
+  const auto edges = mst_exact(pts, cost_of(0));
+  std::vector<Vec2> pos;
+  for (size_t i = 0; i < pts.size(); ++i) pos.push_back({0.3 * pts.x[i], 0.3 * pts.y[i]});
+  std::vector<TrailEdge> te;
+  for (const Edge& e : edges) te.push_back({e.a, e.b});
+  const auto t0 = std::chrono::steady_clock::now();
+  benchmark::DoNotOptimize(forest_trails(pos, te, 12.5).trails.data());
+  const double trails_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::vector<Polyline> loops;
+  double loops_s = 0;
+  for (auto _ : state) {
+    const auto t1 = std::chrono::steady_clock::now();
+    loops = forest_outlines(pos, te, 0.15);
+    loops_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    benchmark::DoNotOptimize(loops.data());
+  }
+  size_t points = 0;
+  for (const auto& l : loops) points += l.pts.size();
+  state.counters["loops"] = double(loops.size());
+  state.counters["loop_points"] = double(points);
+  state.counters["ratio_to_trails"] = loops_s / trails_s;
+}
+BENCHMARK(BM_ForestOutlines)->Arg(100000)->Unit(benchmark::kMillisecond)->Iterations(3);
+
 }  // namespace
 
 BENCHMARK_MAIN();

@@ -48,8 +48,8 @@ draw stipple-coffee-4h stipple "$img/coffee.png" --landscape --time 4h   # 4 h: 
 detail stipple-coffee-4h
 draw stipple-hubble stipple "$img/hubble_deep_field.jpg" -m negative --landscape
 draw stipple-starry-cmyk stipple "$img/starry_night.jpg" -m cmyk --landscape
-draw tree-horse tree "$img/horse.png" --landscape
-detail tree-horse
+draw tree-coffee tree "$img/coffee.png" --landscape   # 1 h: each tree one loop, two pens wide
+detail tree-coffee
 draw tree-horse-paper tree "$img/horse.png" --landscape --law linear   # the paper's look: SIBD over the whole page
 detail tree-horse-paper
 draw sketch-starry sketch "$img/starry_night.jpg" --landscape

@@ -2,6 +2,7 @@
 
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
@@ -36,18 +37,23 @@ void write(const Plan& plan, tinyxml2::XMLPrinter& p, const PlannedSvgOptions& o
         push_filled_circle(p, s.pts[0], layer.pen.width_mm / 2, colour, opt.decimals);
         continue;
       }
-      d.clear();
-      d += 'M';
-      for (size_t i = 0; i < s.pts.size(); ++i) {
-        if (i == 1) d += " L";
-        d += ' ';
-        d += num(s.pts[i].x);
-        d += ',';
-        d += num(s.pts[i].y);
+      for (size_t from = 0;;) {
+        const size_t to = std::min(s.pts.size(), from + kMaxElementPoints);
+        d.clear();
+        d += 'M';
+        for (size_t i = from; i < to; ++i) {
+          if (i == from + 1) d += " L";
+          d += ' ';
+          d += num(s.pts[i].x);
+          d += ',';
+          d += num(s.pts[i].y);
+        }
+        p.OpenElement("path");
+        p.PushAttribute("d", d.c_str());
+        p.CloseElement(true);
+        if (to == s.pts.size()) break;
+        from = to - 1;  // the next piece starts where this one ends
       }
-      p.OpenElement("path");
-      p.PushAttribute("d", d.c_str());
-      p.CloseElement(true);
     }
     p.CloseElement();
   }

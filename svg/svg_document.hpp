@@ -28,6 +28,12 @@ void open_svg_document(tinyxml2::XMLPrinter& p, const SvgFrame& frame);
 // as stroke defaults; close it with CloseElement.
 void open_pen_layer(tinyxml2::XMLPrinter& p, int index, const Pen& pen, int decimals);
 
+// A line of more points than this is written as consecutive elements, each starting at
+// the last one's end (stipplot export joins them again: the ends meet). rsvg-convert 2.54
+// (libxml2 2.9) stops with "Premature end of data" about 10 MB into a file whose elements
+// run to 10,000 points (140 kB) each, and reads the same file in elements of 1,000.
+inline constexpr size_t kMaxElementPoints = 1'000;
+
 // A filled disc without outline (<circle ... fill stroke="none"/>): a dot of ink.
 void push_filled_circle(tinyxml2::XMLPrinter& p, Vec2 c, double r, const std::string& fill, int decimals);
 

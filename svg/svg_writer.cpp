@@ -2,6 +2,7 @@
 
 #include <tinyxml2.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -80,16 +81,21 @@ void write(const Drawing& d, tinyxml2::XMLPrinter& p, const SvgOptions& opt) {
     std::string pts;
     for (const auto& pl : layer.lines) {
       if (pl.pts.empty()) continue;
-      pts.clear();
-      for (size_t i = 0; i < pl.pts.size(); ++i) {
-        if (i) pts += ' ';
-        pts += num(pl.pts[i].x);
-        pts += ',';
-        pts += num(pl.pts[i].y);
+      for (size_t from = 0;;) {
+        const size_t to = std::min(pl.pts.size(), from + kMaxElementPoints);
+        pts.clear();
+        for (size_t i = from; i < to; ++i) {
+          if (i > from) pts += ' ';
+          pts += num(pl.pts[i].x);
+          pts += ',';
+          pts += num(pl.pts[i].y);
+        }
+        p.OpenElement("polyline");
+        p.PushAttribute("points", pts.c_str());
+        p.CloseElement(true);
+        if (to == pl.pts.size()) break;
+        from = to - 1;  // the next piece starts where this one ends
       }
-      p.OpenElement("polyline");
-      p.PushAttribute("points", pts.c_str());
-      p.CloseElement(true);
     }
     for (const auto& a : layer.areas) push_area(p, a, opt.decimals);
     p.CloseElement();

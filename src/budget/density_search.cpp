@@ -20,6 +20,30 @@ double knob_for(double seconds, double scale, const std::function<double(double)
   return lo;
 }
 
+namespace {
+
+// Where two runs put the time as a power of the knob, t = c k^p, the knob that power law
+// gives `aim`, from the run nearest it: the time of a sparse drawing is far from linear in
+// k (a tree's lifts and travel: t ~ k^0.5 at 1 % of its points), which a ratio to the
+// prediction corrects only slowly. 0 when the runs say nothing (one run, equal knobs or
+// times, or a time falling with k).
+double power_law_knob(const std::vector<std::pair<double, double>>& tried, double aim) {
+  if (tried.size() < 2) return 0;
+  // The two runs nearest the aim (in log time).
+  std::vector<std::pair<double, double>> r = tried;
+  std::sort(r.begin(), r.end(), [aim](const auto& x, const auto& y) {
+    return std::abs(std::log(x.second / aim)) < std::abs(std::log(y.second / aim));
+  });
+  const auto [k1, t1] = r[0];
+  const auto [k2, t2] = r[1];
+  if (!(k1 > 0 && k2 > 0 && t1 > 0 && t2 > 0) || k1 == k2 || t1 == t2) return 0;
+  const double p = std::log(t2 / t1) / std::log(k2 / k1);
+  if (!(p > 0.1 && p < 10)) return 0;
+  return std::clamp(k1 * std::pow(aim / t1, 1 / p), 0.0, 1.0);
+}
+
+}  // namespace
+
 SearchOutcome choose_density(const SearchOptions& opt, const std::function<double(double)>& predict,
                              const std::function<double(double)>& run, const std::function<void(double)>& calibrate) {
   require_positive("--time", opt.budget_s);
@@ -41,12 +65,13 @@ SearchOutcome choose_density(const SearchOptions& opt, const std::function<doubl
     const bool coarsest_over = kk <= 0.0 && tt > budget;
     return in_band || finest_fits || coarsest_over;
   };
-  // Correct with the measured ratio; a third run only when still over the budget, with
-  // the ratio of the second run (the prediction's error changes slowly with k).
+  // Correct with the measured ratio; a third run only when still over the budget, by the
+  // power law through the two runs (the prediction's error changes with k).
   double scale = out.correction;
   for (int attempt = 0; attempt < 2 && !kept(k, t); ++attempt) {
     if (attempt == 1 && t <= budget) break;
-    const double next = knob_for(aim, scale, predict);
+    const double law = power_law_knob(tried, aim);
+    const double next = law > 0 ? law : knob_for(aim, scale, predict);
     if (next == k) break;
     k = next;
     const double p = predict(k);
@@ -63,13 +88,15 @@ SearchOutcome choose_density(const SearchOptions& opt, const std::function<doubl
     if (best_t >= 0) k = best_k, t = best_t;
   }
   // None fitted (the time is far from linear in k there: a sparse tree's travel): go on
-  // below the lowest knob that was over, by the latest ratio, and then by halves, so the
-  // kept drawing is within the budget. At most four more runs.
+  // below the lowest knob that was over, by the power law of the runs nearest the aim (or
+  // the latest ratio), at most 0.9 of it and then half, so the kept drawing is within the
+  // budget. At most four more runs.
   for (int extra = 0; t > budget && k > 0 && extra < 4; ++extra) {
     double over = k;
     for (const auto& [kk, tt] : tried)
       if (tt > budget) over = std::min(over, kk);
-    k = std::min(knob_for(aim, scale, predict), (extra == 0 ? 0.9 : 0.5) * over);
+    const double law = power_law_knob(tried, aim);
+    k = std::min(law > 0 ? law : knob_for(aim, scale, predict), (extra == 0 ? 0.9 : 0.5) * over);
     const double p = predict(k);
     t = run(k);
     tried.emplace_back(k, t);

@@ -1,5 +1,6 @@
 // stipplot tree: dendritic drawings by anisotropic minimum spanning trees, and
 // terrain maps (seed 002).
+#include <cmath>
 #include <memory>
 
 #include "cli/commands.hpp"
@@ -19,7 +20,39 @@ struct TreeArgs {
   bool separate = false;
   std::string retrace = "auto";
   std::string law = "tone";
+  std::string weight = "auto";
+  std::string a = "auto";
 };
+
+// Under the tone law each point lays ink along about 1.3 spacings of line (a tree of
+// Poisson-disc points), so a line `weight` pens wide lays the darkness t with points
+// weight / (1.3 t) cells apart: a = 0.62 x weight gives the photo's whole tone at the
+// finest density (coffee.png: blurred mean grey 0.42 drawn for the photo's 0.39, weight
+// 2). The paper's a is 2 (linear law).
+constexpr double kToneSpacingPerWeight = 0.62;
+
+// "auto" or a number >= lo for `option`.
+double auto_or_number(const std::string& text, double automatic, const char* option, double lo) {
+  if (text == "auto") return automatic;
+  double v = 0;
+  size_t used = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used != text.size() || !std::isfinite(v))
+    throw UserError(std::string(option) + ": must be a finite decimal number or auto, not '" + text + "'");
+  if (v < lo) throw UserError(std::string(option) + " must be >= " + std::to_string(static_cast<int>(lo)) + " (or auto)");
+  return v;
+}
+
+// --weight auto: two pens wide under the tone law (the hour's drawing), the pen's own
+// line under the paper's linear law or where --separate or --retrace asks for single lines.
+double weight_of(const TreeArgs& a) {
+  const bool heavy = a.law == "tone" && !a.separate && a.retrace == "auto";
+  return auto_or_number(a.weight, heavy ? 2 : 1, "--weight", 1);
+}
 
 // The pen-down line that takes as long as one pen drop and lift on the profile: an edge
 // shorter than this is cheaper drawn back along than left by lifting. O(log) line times.
@@ -37,14 +70,18 @@ double lift_length_mm(const budget::MarkCosts& costs) {
 tree::TreeStrokes strokes_for(const TreeArgs& a, const budget::MarkCosts& costs) {
   tree::TreeStrokes s;
   s.link = !a.separate;
+  s.weight = weight_of(a);
   s.retrace_mm = a.retrace == "auto" ? lift_length_mm(costs) : parse_paper_mm(a.retrace, "--retrace");
   return s;
 }
 
-nlohmann::json tree_summary(const tree::TreeResult& r, const tree::TreeParams& p) {
+nlohmann::json tree_summary(const tree::TreeResult& r, const tree::TreeParams& p, const tree::TreeStrokes& strokes) {
   nlohmann::json s;
   s["distance"] = p.variant.name;
   s["law"] = p.tone_law ? "tone" : "linear";
+  s["a_cells"] = p.a;  // at this density (the budget's spacing scale included)
+  s["weight_pens"] = strokes.link ? strokes.weight : 1;
+  s["strokes"] = !strokes.link ? "separate" : strokes.weight > 1 ? "loops" : "trails";
   s["points"] = r.points.size();
   s["stipples"] = r.stipple_count;
   s["edge_pixels"] = r.points.size() - r.stipple_count;
@@ -75,8 +112,11 @@ void register_tree(CLI::App& app) {
       "Canny) to the points and measure intensity as the distance from those edges.\n"
       "--terrain writes a terrain map: the tree as valleys in the image (or edge distance) as height,\n"
       "bump-map shaded, high ground red, low ground green, edges blue.\n"
-      "Each tree is drawn as few pen-down trails: an edge is drawn back along where that is quicker than a pen\n"
-      "lift (--retrace), and every edge is its own stroke with --separate (the paper's drawing, a lift each).\n"
+      "Under --law tone (the default) each tree is one closed loop round it, a line two pens wide with rounded\n"
+      "corners (--weight 2): the photo's tone in half the corners a plotter slows for, no lift inside a tree.\n"
+      "With --weight 1 (the default under --law linear) a tree is drawn as few pen-down trails of single lines:\n"
+      "an edge is drawn back along where that is quicker than a pen lift (--retrace), and every edge is its own\n"
+      "stroke with --separate (the paper's drawing, a lift each).\n"
       "Example: stipplot tree photo.jpg -o tree.svg --distance sibd --preview tree.png --terrain land.png");
   CLI::App* cmd = m->cli();
   cmd->add_option("-d,--distance", args->distance,
@@ -85,7 +125,10 @@ void register_tree(CLI::App& app) {
       ->capture_default_str();
   m->add_png_output("--terrain", "Also write a terrain map PNG (image size)", "terrain", "terrain");
   const char* g = "Tree";
-  cmd->add_option("-a", args->p.a, "Stipple radius offset a, in grid cells (a cell is one pen width on paper): r = a + b*d/255")->capture_default_str()->group(g);
+  cmd->add_option("-a", args->a,
+                  "Stipple radius offset a, in grid cells (a cell is one pen width on paper): r = a + b*d/255 (--law linear), "
+                  "a/t (--law tone); auto = 2 (the paper's) under linear, 0.62 x --weight under tone (the photo's whole tone)")
+      ->capture_default_str()->group(g);
   cmd->add_option("-b", args->p.b, "Stipple radius slope b, in grid cells")->capture_default_str()->group(g);
   cmd->add_option("--law", args->law,
                   "tone: points a/t apart for darkness t (up to a+b; lighter ground empty, no edge across it), so the\n"
@@ -101,6 +144,11 @@ void register_tree(CLI::App& app) {
   cmd->add_option("--retrace", args->retrace,
                   "Draw an edge back along, pen down, rather than lift where it is shorter than this: mm, cm, in, pt or px; "
                   "auto = the line a pen lift's time draws on --profile; 0 = never")
+      ->capture_default_str()->group(g);
+  cmd->add_option("--weight", args->weight,
+                  "Line weight in pen widths (>= 1): 1 = the pen's own line (linked trails); over 1, each tree is one closed loop\n"
+                  "round it, (weight - 1) / 2 pen widths to either side of its edges, its corners rounded; auto = 2 under --law\n"
+                  "tone (a line two pens wide: the tone in half the corners, no lift inside a tree), 1 under --law linear")
       ->capture_default_str()->group(g);
   const char* e = "Major edges (cross variants)";
   cmd->add_option("--ms-spatial", args->p.edges.spatial_radius, "Mean-shift spatial radius (px)")->capture_default_str()->group(e);
@@ -123,6 +171,10 @@ void register_tree(CLI::App& app) {
         // every edge and a fur of short edges on it, the tone lost (coffee.png at 1 h, seen
         // at 1 mm: tone r 0.65 against ED's 0.90, SSIM 0.59 against 0.65).
         args->p.variant = tree::parse_variant(args->distance == "auto" ? (args->p.tone_law ? "ed" : "sibd") : args->distance);
+        const double weight = weight_of(*args);
+        if (weight > 1 && args->separate) throw UserError("--separate draws every edge once: use it with --weight 1");
+        if (weight > 1 && args->retrace != "auto") throw UserError("--retrace belongs to --weight 1 (a heavier line is one loop a tree)");
+        args->p.a = auto_or_number(args->a, args->p.tone_law ? kToneSpacingPerWeight * weight : 2, "-a", 0);
         args->p.validate();
         args->t.validate();
         if (args->retrace != "auto" && !(parse_paper_mm(args->retrace, "--retrace") >= 0))
@@ -138,8 +190,9 @@ void register_tree(CLI::App& app) {
                                                    in.placement.pen_width_mm);
         auto r = std::make_shared<tree::TreeResult>(tree::tree_pixels(grid.image, p));
         MethodResult out;
-        out.drawing = tree::place_tree(*r, in.placement, strokes_for(*args, in.costs));
-        out.summary = tree_summary(*r, p);
+        const tree::TreeStrokes strokes = strokes_for(*args, in.costs);
+        out.drawing = tree::place_tree(*r, in.placement, strokes);
+        out.summary = tree_summary(*r, p, strokes);
         out.images["--terrain"] = [r, args] { return tree::terrain(*r, args->t); };
         out.counts = std::to_string(r->points.size()) + " points, " + std::to_string(out.drawing.primitive_count()) +
                      " segments in " + layers_phrase(out.drawing.layers.size()) + " (" + p.variant.name + ", " +

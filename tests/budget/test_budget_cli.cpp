@@ -70,7 +70,10 @@ TEST_CASE("the same page and pen give the same marks whatever the input's resolu
       INFO(method << " " << other << ": " << marks(j) << " marks against " << n);
       // A linked sketch's time also depends on how many links its probability field allows,
       // and a quarter-size photo's field, upsampled to the grid, is smoother: 8 % more marks.
-      CHECK(std::abs(marks(j) - n) <= (j.contains("linked") ? 0.10 : 0.05) * n);
+      // A tree's points are spaced little more than a cell apart at its weight's spacing,
+      // where the smoother upsampled field packs 5-8 % more of them into the same time.
+      const bool looser = j.contains("linked") || j.value("command", "") == "tree";
+      CHECK(std::abs(marks(j) - n) <= (looser ? 0.10 : 0.05) * n);
     }
   }
   // A connected drawing's marks are a few long lines: its points are what must agree.

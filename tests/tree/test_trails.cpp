@@ -2,9 +2,11 @@
 // retraced length + lift length x trails, checked against every choice of retraced edges
 // on small random trees.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
+#include <set>
 
 #include "methods/tree/trails.hpp"
 
@@ -119,4 +121,104 @@ TEST_CASE("forest trails retrace exactly where it pays: the least retraced lengt
       CHECK(cost == Approx(brute_force(f, lift, true)).margin(1e-9));
     }
   }
+}
+
+namespace {
+
+double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
+  const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+  const double t = len2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0, 1.0) : 0;
+  return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
+}
+
+double distance_to_loops(Vec2 p, const std::vector<Polyline>& loops) {
+  double best = 1e300;
+  for (const auto& l : loops)
+    for (size_t i = 1; i < l.pts.size(); ++i) best = std::min(best, distance_to_segment(p, l.pts[i - 1], l.pts[i]));
+  return best;
+}
+
+// Sum and largest of the turns (radians, signed sum) between a closed loop's segments.
+std::pair<double, double> turning(const Polyline& loop) {
+  double sum = 0, largest = 0;
+  const size_t m = loop.pts.size() - 1;
+  for (size_t i = 0; i < m; ++i) {
+    const Vec2 a = loop.pts[(i + m - 1) % m], b = loop.pts[i], c = loop.pts[(i + 1) % m];
+    const double t = std::atan2((b.x - a.x) * (c.y - b.y) - (b.y - a.y) * (c.x - b.x),
+                                (b.x - a.x) * (c.x - b.x) + (b.y - a.y) * (c.y - b.y));
+    sum += t;
+    largest = std::max(largest, std::abs(t));
+  }
+  return {sum, largest};
+}
+
+}  // namespace
+
+TEST_CASE("forest outlines: one closed loop a tree, passing every edge on both sides at the offset", "[tree][trails]") {
+  std::mt19937 rng(11);
+  const double offset = 0.15;
+  for (int trial = 0; trial < 40; ++trial) {
+    const int n = 2 + trial % 25, trees = 1 + trial % 3;
+    const Forest f = random_forest(rng, n, std::min(trees, n));
+    // Trees with an edge: the roots some vertex joined.
+    std::vector<int> root(f.pos.size());
+    for (size_t v = 0; v < root.size(); ++v) root[v] = static_cast<int>(v);
+    for (const auto& e : f.edges) root[e.b] = root[e.a];  // a joins an earlier vertex: its root is final
+    std::set<int> with_edges;
+    for (const auto& e : f.edges) with_edges.insert(root[e.a]);
+    const std::vector<Polyline> loops = forest_outlines(f.pos, f.edges, offset, 0);
+    INFO("trial " << trial);
+    CHECK(loops.size() == with_edges.size());
+    for (const auto& l : loops) {
+      REQUIRE(l.pts.size() >= 3);
+      CHECK(l.pts.front().x == l.pts.back().x);
+      CHECK(l.pts.front().y == l.pts.back().y);
+    }
+    // Each edge's midpoint, moved the offset to either side, lies on a loop: the two passes.
+    for (const auto& e : f.edges) {
+      const Vec2 a = f.pos[e.a], b = f.pos[e.b];
+      const double len = length(f, e);
+      if (len < 1e-6) continue;
+      const Vec2 n{-(b.y - a.y) / len, (b.x - a.x) / len}, m{(a.x + b.x) / 2, (a.y + b.y) / 2};
+      CHECK(distance_to_loops({m.x + offset * n.x, m.y + offset * n.y}, loops) < 1e-9);
+      CHECK(distance_to_loops({m.x - offset * n.x, m.y - offset * n.y}, loops) < 1e-9);
+    }
+    // No loop point farther than the offset from the forest.
+    for (const auto& l : loops)
+      for (const Vec2& p : l.pts) {
+        double best = 1e300;
+        for (const auto& e : f.edges) best = std::min(best, distance_to_segment(p, f.pos[e.a], f.pos[e.b]));
+        CHECK(best <= offset * (1 + 1e-9));
+      }
+  }
+}
+
+TEST_CASE("forest outlines: a planar tree's loop turns once round, and two rounds of corner cutting halve its sharpest turn",
+          "[tree][trails]") {
+  // A comb: a spine with teeth up and down, every corner 90 degrees, the tips half circles.
+  Forest f;
+  for (int i = 0; i < 6; ++i) f.pos.push_back({2.0 * i, 0});
+  for (int i = 0; i < 5; ++i) f.edges.push_back({static_cast<uint32_t>(i), static_cast<uint32_t>(i + 1)});
+  for (int i = 0; i < 6; ++i) {
+    f.pos.push_back({2.0 * i, i % 2 ? 1.5 : -1.5});
+    f.edges.push_back({static_cast<uint32_t>(i), static_cast<uint32_t>(f.pos.size() - 1)});
+  }
+  const auto sharp = forest_outlines(f.pos, f.edges, 0.15, 0);
+  const auto smooth = forest_outlines(f.pos, f.edges, 0.15, 2);
+  REQUIRE(sharp.size() == 1);
+  REQUIRE(smooth.size() == 1);
+  const auto [sum0, max0] = turning(sharp[0]);
+  const auto [sum2, max2] = turning(smooth[0]);
+  CHECK(std::abs(std::abs(sum0) - 2 * M_PI) < 1e-9);
+  CHECK(std::abs(std::abs(sum2) - 2 * M_PI) < 1e-9);
+  CHECK(max0 == Approx(M_PI / 2).margin(1e-9));  // the mitred inner corners
+  CHECK(max2 <= 0.5 * max0 + 1e-9);
+  CHECK(smooth[0].pts.size() == 4 * (sharp[0].pts.size() - 1) + 1);
+  // The loop is about twice the tree long (both sides), the tips' half circles adding a little.
+  double tree_len = 0, loop_len = 0;
+  for (const auto& e : f.edges) tree_len += length(f, e);
+  for (size_t i = 1; i < sharp[0].pts.size(); ++i)
+    loop_len += std::hypot(sharp[0].pts[i].x - sharp[0].pts[i - 1].x, sharp[0].pts[i].y - sharp[0].pts[i - 1].y);
+  CHECK(loop_len > 2 * tree_len - 20 * 0.15);
+  CHECK(loop_len < 2 * tree_len + 8 * M_PI * 0.15);
 }

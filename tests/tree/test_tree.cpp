@@ -9,9 +9,11 @@
 #include <fstream>
 #include <numeric>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <string>
 
 #include "methods/tree/tree.hpp"
+#include "cli_json.hpp"
 #include "test_util.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
@@ -368,7 +370,10 @@ TEST_CASE("stipplot tree CLI: bad parameters exit non-zero with the name and lea
   } cases[] = {{"--alpha-bd -1", "--alpha-bd"}, {"--alpha-sibd nan", "--alpha-sibd"}, {"--h -5", "--h"},
                {"--sigma -1", "--sigma"},       {"--distance foo", "--distance"},   {"--valley-depth -2", "--valley-depth"},
                {"--terrain " + (dir / "t.jpg").string(), "--terrain"},
-               {"--law sqrt", "--law"},         {"-a 0", "-a"}};
+               {"--law sqrt", "--law"},         {"-a 0", "-a"},
+               {"-a wide", "-a"},               {"--weight 0.5", "--weight"},
+               {"--weight heavy", "--weight"},  {"--weight 2 --separate", "--separate"},
+               {"--weight 3 --retrace 1mm", "--retrace"}};
   for (const auto& c : cases) {
     int status = 0;
     const bool own_terrain = c.name == "--terrain";
@@ -402,5 +407,59 @@ TEST_CASE("tiny images: one point, no segments, terrain still the image size", "
       const Drawing d = place_tree(r, Placement{});
       REQUIRE(d.layers.size() == p.variant.layers.size());
     }
+  }
+}
+
+TEST_CASE("stipplot tree at the hour: a line two pens wide, a loop a tree, and single lines under the paper's law or --weight 1",
+          "[tree][cli]") {
+  const test::TempDir tmp;
+  const std::string in = std::string(STIPPLOT_SOURCE_DIR) + "/examples/horse.png";
+  const std::string out = (tmp.path / "t.svg").string();
+  const nlohmann::json heavy = test::run_json("tree " + in + " -o " + out + " --page 120x90mm");
+  CHECK(heavy["law"] == "tone");
+  CHECK(heavy["weight_pens"] == 2.0);
+  CHECK(heavy["strokes"] == "loops");
+  CHECK(heavy["a_cells"].get<double>() >= 0.62 * 2 - 1e-9);  // the budget only ever spaces the points out
+  CHECK(heavy["plan"]["total"]["pen_lifts"].get<size_t>() < heavy["points"].get<size_t>() / 50);
+
+  const nlohmann::json paper = test::run_json("tree " + in + " -o " + out + " --page 120x90mm --law linear");
+  CHECK(paper["weight_pens"] == 1.0);
+  CHECK(paper["strokes"] == "trails");
+  CHECK(paper["a_cells"].get<double>() >= 2 - 1e-9);
+  const nlohmann::json thin = test::run_json("tree " + in + " -o " + out + " --page 120x90mm --weight 1");
+  CHECK(thin["weight_pens"] == 1.0);
+  CHECK(thin["strokes"] == "trails");
+  const nlohmann::json separate = test::run_json("tree " + in + " -o " + out + " --page 120x90mm --separate");
+  CHECK(separate["strokes"] == "separate");
+}
+
+TEST_CASE("tree drawn two pens wide: one closed loop a tree, the pen's width from every edge", "[tree][drawing]") {
+  const Image img = shared_image("horse.png", 160);
+  TreeParams p;
+  p.variant = parse_variant("ed");
+  p.tone_law = true;
+  p.a = 1.24;
+  Placement pl;
+  const TreeResult r = tree_pixels(img, p);
+  TreeStrokes strokes;
+  strokes.link = true;
+  strokes.weight = 2;
+  const Drawing d = place_tree(r, pl, strokes);
+  REQUIRE(d.layers.size() == 1);
+  REQUIRE(r.layers[0].edges.size() > 100);
+  // Trees: the components of the tree's edges.
+  std::vector<uint32_t> up(r.points.size());
+  std::iota(up.begin(), up.end(), 0u);
+  auto find = [&](uint32_t v) {
+    while (up[v] != v) v = up[v] = up[up[v]];
+    return v;
+  };
+  for (const Edge& e : r.layers[0].edges) up[find(e.a)] = find(e.b);
+  std::set<uint32_t> trees;
+  for (const Edge& e : r.layers[0].edges) trees.insert(find(e.a));
+  CHECK(d.layers[0].lines.size() == trees.size());
+  for (const auto& l : d.layers[0].lines) {
+    CHECK(l.pts.front().x == l.pts.back().x);
+    CHECK(l.pts.front().y == l.pts.back().y);
   }
 }

@@ -210,3 +210,113 @@ TrailPlan forest_trails(const std::vector<Vec2>& pos, const std::vector<TrailEdg
 }
 
 }  // namespace stipplot::tree
+
+namespace stipplot::tree {
+
+namespace {
+
+// A closed loop (last point = first) with every corner cut `rounds` times at a quarter.
+void cut_corners(Polyline& loop, int rounds) {
+  for (int r = 0; r < rounds && loop.pts.size() > 2; ++r) {
+    std::vector<Vec2> q;
+    q.reserve(2 * loop.pts.size());
+    for (size_t i = 0; i + 1 < loop.pts.size(); ++i) {
+      const Vec2 a = loop.pts[i], b = loop.pts[i + 1];
+      q.push_back({0.75 * a.x + 0.25 * b.x, 0.75 * a.y + 0.25 * b.y});
+      q.push_back({0.25 * a.x + 0.75 * b.x, 0.25 * a.y + 0.75 * b.y});
+    }
+    q.push_back(q.front());
+    loop.pts = std::move(q);
+  }
+}
+
+}  // namespace
+
+std::vector<Polyline> forest_outlines(const std::vector<Vec2>& pos, const std::vector<TrailEdge>& edges, double offset,
+                                      int rounds) {
+  std::vector<Polyline> loops;
+  const size_t nv = pos.size(), ne = edges.size();
+  if (ne == 0) return loops;
+  // Half-edge h = 2k (a -> b) or 2k + 1 (b -> a) of edge k; each vertex's outgoing
+  // half-edges sorted by angle.
+  auto from = [&](uint32_t h) { return h & 1 ? edges[h >> 1].b : edges[h >> 1].a; };
+  auto to = [&](uint32_t h) { return h & 1 ? edges[h >> 1].a : edges[h >> 1].b; };
+  auto dir = [&](uint32_t h) {
+    const Vec2 p = pos[from(h)], q = pos[to(h)];
+    const double len = std::hypot(q.x - p.x, q.y - p.y);
+    return len > 0 ? Vec2{(q.x - p.x) / len, (q.y - p.y) / len} : Vec2{1, 0};
+  };
+  std::vector<uint32_t> start(nv + 1, 0), out(2 * ne);
+  for (const TrailEdge& e : edges) ++start[e.a + 1], ++start[e.b + 1];
+  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t h = 0; h < 2 * ne; ++h) out[fill[from(h)]++] = h;
+  }
+  std::vector<double> angle(2 * ne);
+  for (uint32_t h = 0; h < 2 * ne; ++h) {
+    const Vec2 t = dir(h);
+    angle[h] = std::atan2(t.y, t.x);
+  }
+  // rank[h]: h's place among its vertex's outgoing half-edges.
+  std::vector<uint32_t> rank(2 * ne);
+  for (size_t v = 0; v < nv; ++v) {
+    std::sort(out.begin() + start[v], out.begin() + start[v + 1],
+              [&](uint32_t x, uint32_t y) { return angle[x] < angle[y] || (angle[x] == angle[y] && x < y); });
+    for (uint32_t i = start[v]; i < start[v + 1]; ++i) rank[out[i]] = i;
+  }
+  // After arriving at v by h, leave by the half-edge next below the way back (h ^ 1) in
+  // angle: with the offset on the left of the walk, that is the edge whose side meets it.
+  auto next = [&](uint32_t h) {
+    const uint32_t back = h ^ 1, v = from(back);
+    const uint32_t i = rank[back];
+    return out[i == start[v] ? start[v + 1] - 1 : i - 1];
+  };
+  auto left = [](Vec2 t) { return Vec2{-t.y, t.x}; };
+  std::vector<uint8_t> done(2 * ne, 0);
+  constexpr double kArcStep = M_PI / 4;  // outer corners: arc points at most 45 degrees apart
+  for (uint32_t h0 = 0; h0 < 2 * ne; ++h0) {
+    if (done[h0]) continue;
+    Polyline pl;
+    uint32_t h = h0;
+    do {
+      done[h] = 1;
+      const uint32_t g = next(h);
+      const Vec2 v = pos[to(h)], t1 = dir(h), t2 = dir(g), n1 = left(t1), n2 = left(t2);
+      const double cross = t1.x * t2.y - t1.y * t2.x, dot = t1.x * t2.x + t1.y * t2.y;
+      if (g != (h ^ 1) && cross >= 0) {
+        // Straight on, or an inner corner (the walk turns toward its offset side): the
+        // offset lines meet; where they meet far out (a sharp turn), a bevel.
+        const double s = 1 + dot > 1e-6 ? offset / (1 + dot) : 0;
+        const Vec2 m{v.x + s * (n1.x + n2.x), v.y + s * (n1.y + n2.y)};
+        const double reach = s > 0 ? s * std::hypot(n1.x + n2.x, n1.y + n2.y) : HUGE_VAL;
+        const double l1 = std::hypot(v.x - pos[from(h)].x, v.y - pos[from(h)].y);
+        const double l2 = std::hypot(pos[to(g)].x - v.x, pos[to(g)].y - v.y);
+        if (reach <= 0.5 * std::min(l1, l2)) {
+          pl.pts.push_back(m);
+        } else {
+          pl.pts.push_back({v.x + offset * n1.x, v.y + offset * n1.y});
+          pl.pts.push_back({v.x + offset * n2.x, v.y + offset * n2.y});
+        }
+      } else {
+        // An outer corner or a tip: round it, from n1 turning clockwise to n2.
+        double a1 = std::atan2(n1.y, n1.x), a2 = std::atan2(n2.y, n2.x);
+        while (a2 > a1) a2 -= 2 * M_PI;
+        if (g == (h ^ 1)) a2 = a1 - M_PI;  // a tip: the half circle round it
+        const int steps = std::max(1, static_cast<int>(std::ceil((a1 - a2) / kArcStep - 1e-9)));
+        for (int i = 0; i <= steps; ++i) {
+          const double a = a1 + (a2 - a1) * i / steps;
+          pl.pts.push_back({v.x + offset * std::cos(a), v.y + offset * std::sin(a)});
+        }
+      }
+      h = g;
+    } while (h != h0);
+    if (pl.pts.empty()) continue;
+    pl.pts.push_back(pl.pts.front());  // closed
+    cut_corners(pl, rounds);
+    loops.push_back(std::move(pl));
+  }
+  return loops;
+}
+
+}  // namespace stipplot::tree

@@ -185,6 +185,7 @@ Drawing place_tree(const TreeResult& r, const Placement& placement, const TreeSt
   d.page.height_mm = tf.page_h();
   const size_t n = r.points.x.size();
   std::vector<uint32_t> degree(n);
+  const bool outline = strokes.link && strokes.weight > 1;
   for (const TreeLayer& tl : r.layers) {
     Layer layer;
     layer.pen = Pen{std::string(r.cross ? "tree-c" : "tree-") + to_string(tl.kind), colors::black, pen};
@@ -198,6 +199,14 @@ Drawing place_tree(const TreeResult& r, const Placement& placement, const TreeSt
     if (strokes.link) {
       pos.reserve(n);
       for (size_t i = 0; i < n; ++i) pos.push_back(tf.map(r.points.x[i] + 0.5, r.points.y[i] + 0.5));
+    }
+    if (outline) {
+      std::vector<TrailEdge> es;
+      es.reserve(tl.edges.size());
+      for (const Edge& e : tl.edges) es.push_back({e.a, e.b});
+      layer.lines = forest_outlines(pos, es, (strokes.weight - 1) * pen / 2);
+      d.layers.push_back(std::move(layer));
+      continue;
     }
     for (const Edge& e : tl.edges) {
       Vec2 a = tf.map(r.points.x[e.a] + 0.5, r.points.y[e.a] + 0.5);

@@ -83,9 +83,15 @@ TreeResult tree_pixels(const Image& image, const TreeParams& params);
 inline constexpr double kCrowdDiscMm = 1.0;
 inline constexpr double kCrowdCoverage = 0.75;
 inline constexpr double kCrowdMaxShare = 0.4;
+//
+// With `strokes.weight` over 1 (pen widths), each tree is drawn as one closed loop round
+// it instead (forest_outlines, trails.hpp), (weight - 1) / 2 pen widths to either side of
+// its edges: at weight 2 a line two pens wide, no pen lift inside a tree and no ink laid
+// twice; the crowded points' gaps do not apply (the loop passes round every point).
 struct TreeStrokes {
   bool link = false;
   double retrace_mm = 0;
+  double weight = 1;
 };
 Drawing place_tree(const TreeResult& r, const Placement& placement, const TreeStrokes& strokes = {});
 
