@@ -37,23 +37,7 @@ void write(const Plan& plan, tinyxml2::XMLPrinter& p, const PlannedSvgOptions& o
         push_filled_circle(p, s.pts[0], layer.pen.width_mm / 2, colour, opt.decimals);
         continue;
       }
-      for (size_t from = 0;;) {
-        const size_t to = std::min(s.pts.size(), from + kMaxElementPoints);
-        d.clear();
-        d += 'M';
-        for (size_t i = from; i < to; ++i) {
-          if (i == from + 1) d += " L";
-          d += ' ';
-          d += num(s.pts[i].x);
-          d += ',';
-          d += num(s.pts[i].y);
-        }
-        p.OpenElement("path");
-        p.PushAttribute("d", d.c_str());
-        p.CloseElement(true);
-        if (to == s.pts.size()) break;
-        from = to - 1;  // the next piece starts where this one ends
-      }
+      push_line(p, s.pts, LineElement::path, opt.decimals, d);
     }
     p.CloseElement();
   }

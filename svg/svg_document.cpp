@@ -1,5 +1,7 @@
 #include "svg/svg_document.hpp"
 
+#include <algorithm>
+
 #include "svg/svg_writer.hpp"
 
 namespace stipplot {
@@ -61,6 +63,26 @@ void push_filled_circle(tinyxml2::XMLPrinter& p, Vec2 c, double r, const std::st
   p.PushAttribute("fill", fill.c_str());
   p.PushAttribute("stroke", "none");
   p.CloseElement(true);
+}
+
+void push_line(tinyxml2::XMLPrinter& p, const std::vector<Vec2>& pts, LineElement as, int decimals, std::string& scratch) {
+  for (size_t from = 0; from < pts.size();) {
+    const size_t to = std::min(pts.size(), from + kMaxElementPoints);
+    scratch.clear();
+    if (as == LineElement::path) scratch += 'M';
+    for (size_t i = from; i < to; ++i) {
+      if (as == LineElement::path && i == from + 1) scratch += " L";
+      if (as == LineElement::path || i > from) scratch += ' ';
+      scratch += format_number(pts[i].x, decimals);
+      scratch += ',';
+      scratch += format_number(pts[i].y, decimals);
+    }
+    p.OpenElement(as == LineElement::path ? "path" : "polyline");
+    p.PushAttribute(as == LineElement::path ? "d" : "points", scratch.c_str());
+    p.CloseElement(true);
+    if (to == pts.size()) break;
+    from = to - 1;  // the next piece starts where this one ends
+  }
 }
 
 }  // namespace stipplot

@@ -5,6 +5,7 @@
 #include <tinyxml2.h>
 
 #include <string>
+#include <vector>
 
 #include "geometry/drawing.hpp"
 
@@ -33,6 +34,11 @@ void open_pen_layer(tinyxml2::XMLPrinter& p, int index, const Pen& pen, int deci
 // (libxml2 2.9) stops with "Premature end of data" about 10 MB into a file whose elements
 // run to 10,000 points (140 kB) each, and reads the same file in elements of 1,000.
 inline constexpr size_t kMaxElementPoints = 1'000;
+
+// A line as <polyline points> or <path d="M ... L ...">, split as above; `scratch` is
+// reused between calls. O(points).
+enum class LineElement { polyline, path };
+void push_line(tinyxml2::XMLPrinter& p, const std::vector<Vec2>& pts, LineElement as, int decimals, std::string& scratch);
 
 // A filled disc without outline (<circle ... fill stroke="none"/>): a dot of ink.
 void push_filled_circle(tinyxml2::XMLPrinter& p, Vec2 c, double r, const std::string& fill, int decimals);

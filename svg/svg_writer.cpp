@@ -81,21 +81,7 @@ void write(const Drawing& d, tinyxml2::XMLPrinter& p, const SvgOptions& opt) {
     std::string pts;
     for (const auto& pl : layer.lines) {
       if (pl.pts.empty()) continue;
-      for (size_t from = 0;;) {
-        const size_t to = std::min(pl.pts.size(), from + kMaxElementPoints);
-        pts.clear();
-        for (size_t i = from; i < to; ++i) {
-          if (i > from) pts += ' ';
-          pts += num(pl.pts[i].x);
-          pts += ',';
-          pts += num(pl.pts[i].y);
-        }
-        p.OpenElement("polyline");
-        p.PushAttribute("points", pts.c_str());
-        p.CloseElement(true);
-        if (to == pl.pts.size()) break;
-        from = to - 1;  // the next piece starts where this one ends
-      }
+      push_line(p, pl.pts, LineElement::polyline, opt.decimals, pts);
     }
     for (const auto& a : layer.areas) push_area(p, a, opt.decimals);
     p.CloseElement();

@@ -1,7 +1,12 @@
 #include <catch2/catch.hpp>
 #include <tinyxml2.h>
 
+#include <cmath>
+
 #include "methods/stipple/stipple.hpp"
+#include "plan/planner.hpp"
+#include "svg/svg_document.hpp"
+#include "svg/svg_reader.hpp"
 #include "svg/svg_writer.hpp"
 #include "test_util.hpp"
 
@@ -67,4 +72,33 @@ TEST_CASE("a failed write leaves no file behind", "[svg]") {
   Drawing d;
   CHECK_THROWS(write_svg(d, "/nonexistent-dir/x.svg"));
   CHECK(!std::filesystem::exists("/nonexistent-dir/x.svg"));
+}
+
+TEST_CASE("a line of more points than an element holds is written as consecutive pieces, and planned as one stroke again",
+          "[svg]") {
+  Drawing d;
+  d.page = Page{200, 200};
+  Layer l;
+  l.pen = Pen{"black", colors::black, 0.3};
+  Polyline spiral;
+  for (int i = 0; i < 2500; ++i) {
+    const double a = 0.05 * i, r = 5 + 0.03 * i;
+    spiral.pts.push_back({100 + r * std::cos(a), 100 + r * std::sin(a)});
+  }
+  l.lines.push_back(spiral);
+  d.layers.push_back(l);
+  test::TempDir t;
+  write_svg(d, t.file("s.svg"));
+  const Drawing back = read_svg(t.file("s.svg"));
+  REQUIRE(back.layers.size() == 1);
+  // 2,500 points: 1,000 + 1,000 + 502 (each piece starts where the last ended).
+  REQUIRE(back.layers[0].lines.size() == 3);
+  CHECK(back.layers[0].lines[0].pts.size() == kMaxElementPoints);
+  CHECK(back.layers[0].lines[2].pts.size() == 2500 - 2 * (kMaxElementPoints - 1));
+  CHECK(back.layers[0].lines[0].pts.back().x == back.layers[0].lines[1].pts.front().x);
+  PlanOptions po;
+  const Plan plan = plan_drawing(back, po);
+  REQUIRE(plan.layers.size() == 1);
+  CHECK(plan.layers[0].strokes.size() == 1);
+  CHECK(plan.layers[0].strokes[0].pts.size() == 2500);
 }
