@@ -190,6 +190,13 @@ std::vector<Path> planned_strokes(const std::string& svg_path) {
       Path p;
       for (auto q = std::sregex_iterator(d.begin(), d.end(), pair); q != std::sregex_iterator(); ++q)
         p.push_back({std::stod((*q)[1]), std::stod((*q)[2])});
+      // A stroke of more than kMaxElementPoints is written as consecutive paths, each
+      // starting where the last ended: one stroke again.
+      if (!out.empty() && out.back().size() > 1 && !p.empty() && out.back().back().x == p.front().x &&
+          out.back().back().y == p.front().y) {
+        out.back().insert(out.back().end(), p.begin() + 1, p.end());
+        continue;
+      }
       out.push_back(p);
     } else {
       out.push_back({{std::stod(m[2]), std::stod(m[3])}});
