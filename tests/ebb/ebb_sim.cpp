@@ -19,6 +19,8 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "svg/svg_document.hpp"
+
 namespace ebbtest {
 
 namespace fs = std::filesystem;
@@ -180,6 +182,7 @@ size_t job_down_steps(const std::string& job_path) {
 
 std::vector<Path> planned_strokes(const std::string& svg_path) {
   const std::string svg = slurp(svg_path);
+  bool last_full = false;  // the last path had kMaxElementPoints points: a stroke may go on
   std::vector<Path> out;
   static const std::regex element(R"re(<path d="([^"]*)"|<circle cx="([-0-9.e]+)" cy="([-0-9.e]+)")re");
   static const std::regex pair(R"re(([-0-9.e]+),([-0-9.e]+))re");
@@ -191,14 +194,18 @@ std::vector<Path> planned_strokes(const std::string& svg_path) {
       for (auto q = std::sregex_iterator(d.begin(), d.end(), pair); q != std::sregex_iterator(); ++q)
         p.push_back({std::stod((*q)[1]), std::stod((*q)[2])});
       // A stroke of more than kMaxElementPoints is written as consecutive paths, each
-      // starting where the last ended: one stroke again.
-      if (!out.empty() && out.back().size() > 1 && !p.empty() && out.back().back().x == p.front().x &&
-          out.back().back().y == p.front().y) {
+      // starting where the last ended: one stroke again. Only a full piece continues (two
+      // strokes of their own may meet end to start: foreign.svg's do).
+      const bool continues = last_full && !p.empty() && out.back().back().x == p.front().x &&
+                             out.back().back().y == p.front().y;
+      last_full = p.size() == stipplot::kMaxElementPoints;
+      if (continues) {
         out.back().insert(out.back().end(), p.begin() + 1, p.end());
         continue;
       }
       out.push_back(p);
     } else {
+      last_full = false;
       out.push_back({{std::stod(m[2]), std::stod(m[3])}});
     }
   }
