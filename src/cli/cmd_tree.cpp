@@ -1,6 +1,5 @@
 // stipplot tree: dendritic drawings by anisotropic minimum spanning trees, and
 // terrain maps (seed 002).
-#include <cmath>
 #include <memory>
 
 #include "cli/commands.hpp"
@@ -22,6 +21,7 @@ struct TreeArgs {
   std::string law = "tone";
   std::string weight = "auto";
   std::string a = "auto";
+  double weight_pens = 1;  // --weight, read once the options are checked
 };
 
 // Under the tone law each point lays ink along about 1.3 spacings of line (a tree of
@@ -31,17 +31,12 @@ struct TreeArgs {
 // 2). The paper's a is 2 (linear law).
 constexpr double kToneSpacingPerWeight = 0.62;
 
-// "auto" or a number >= lo for `option`.
+// "auto" or a number >= lo for `option` (no unit: pen widths or grid cells).
 double auto_or_number(const std::string& text, double automatic, const char* option, double lo) {
   if (text == "auto") return automatic;
   double v = 0;
-  size_t used = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || !std::isfinite(v))
+  std::string unit;
+  if (!split_number_unit(text, v, unit) || !unit.empty())
     throw UserError(std::string(option) + ": must be a finite decimal number or auto, not '" + text + "'");
   if (v < lo) throw UserError(std::string(option) + " must be >= " + std::to_string(static_cast<int>(lo)) + " (or auto)");
   return v;
@@ -70,7 +65,7 @@ double lift_length_mm(const budget::MarkCosts& costs) {
 tree::TreeStrokes strokes_for(const TreeArgs& a, const budget::MarkCosts& costs) {
   tree::TreeStrokes s;
   s.link = !a.separate;
-  s.weight = weight_of(a);
+  s.weight = a.weight_pens;
   s.retrace_mm = a.retrace == "auto" ? lift_length_mm(costs) : parse_paper_mm(a.retrace, "--retrace");
   return s;
 }
@@ -171,7 +166,7 @@ void register_tree(CLI::App& app) {
         // every edge and a fur of short edges on it, the tone lost (coffee.png at 1 h, seen
         // at 1 mm: tone r 0.65 against ED's 0.90, SSIM 0.59 against 0.65).
         args->p.variant = tree::parse_variant(args->distance == "auto" ? (args->p.tone_law ? "ed" : "sibd") : args->distance);
-        const double weight = weight_of(*args);
+        const double weight = args->weight_pens = weight_of(*args);
         if (weight > 1 && args->separate) throw UserError("--separate draws every edge once: use it with --weight 1");
         if (weight > 1 && args->retrace != "auto") throw UserError("--retrace belongs to --weight 1 (a heavier line is one loop a tree)");
         args->p.a = auto_or_number(args->a, args->p.tone_law ? kToneSpacingPerWeight * weight : 2, "-a", 0);

@@ -209,10 +209,6 @@ TrailPlan forest_trails(const std::vector<Vec2>& pos, const std::vector<TrailEdg
   return plan;
 }
 
-}  // namespace stipplot::tree
-
-namespace stipplot::tree {
-
 namespace {
 
 // A closed loop (last point = first) with every corner cut `rounds` times at a quarter.
@@ -237,30 +233,28 @@ std::vector<Polyline> forest_outlines(const std::vector<Vec2>& pos, const std::v
   std::vector<Polyline> loops;
   const size_t nv = pos.size(), ne = edges.size();
   if (ne == 0) return loops;
-  // Half-edge h = 2k (a -> b) or 2k + 1 (b -> a) of edge k; each vertex's outgoing
-  // half-edges sorted by angle.
+  // Half-edge h = 2k (a -> b) or 2k + 1 (b -> a) of edge k, its unit direction once.
   auto from = [&](uint32_t h) { return h & 1 ? edges[h >> 1].b : edges[h >> 1].a; };
   auto to = [&](uint32_t h) { return h & 1 ? edges[h >> 1].a : edges[h >> 1].b; };
-  auto dir = [&](uint32_t h) {
-    const Vec2 p = pos[from(h)], q = pos[to(h)];
-    const double len = std::hypot(q.x - p.x, q.y - p.y);
-    return len > 0 ? Vec2{(q.x - p.x) / len, (q.y - p.y) / len} : Vec2{1, 0};
-  };
-  std::vector<uint32_t> start(nv + 1, 0), out(2 * ne);
-  for (const TrailEdge& e : edges) ++start[e.a + 1], ++start[e.b + 1];
-  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  {
-    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (uint32_t h = 0; h < 2 * ne; ++h) out[fill[from(h)]++] = h;
-  }
+  std::vector<Vec2> unit(2 * ne);
   std::vector<double> angle(2 * ne);
   for (uint32_t h = 0; h < 2 * ne; ++h) {
-    const Vec2 t = dir(h);
-    angle[h] = std::atan2(t.y, t.x);
+    const Vec2 p = pos[from(h)], q = pos[to(h)];
+    const double len = std::hypot(q.x - p.x, q.y - p.y);
+    unit[h] = len > 0 ? Vec2{(q.x - p.x) / len, (q.y - p.y) / len} : Vec2{1, 0};
+    angle[h] = std::atan2(unit[h].y, unit[h].x);
   }
-  // rank[h]: h's place among its vertex's outgoing half-edges.
-  std::vector<uint32_t> rank(2 * ne);
-  for (size_t v = 0; v < nv; ++v) {
+  auto dir = [&](uint32_t h) { return unit[h]; };
+  // Each vertex's outgoing half-edges (the edges of its adjacency, as leaving it) sorted
+  // by angle; rank[h]: h's place among them.
+  const Adjacency adj(nv, edges);
+  const std::vector<uint32_t>& start = adj.start;
+  std::vector<uint32_t> out(2 * ne), rank(2 * ne);
+  for (uint32_t v = 0; v < nv; ++v) {
+    for (uint32_t i = start[v]; i < start[v + 1]; ++i) {
+      const uint32_t k = adj.item[i];
+      out[i] = 2 * k + (edges[k].a == v ? 0 : 1);
+    }
     std::sort(out.begin() + start[v], out.begin() + start[v + 1],
               [&](uint32_t x, uint32_t y) { return angle[x] < angle[y] || (angle[x] == angle[y] && x < y); });
     for (uint32_t i = start[v]; i < start[v + 1]; ++i) rank[out[i]] = i;

@@ -189,25 +189,24 @@ Drawing place_tree(const TreeResult& r, const Placement& placement, const TreeSt
   for (const TreeLayer& tl : r.layers) {
     Layer layer;
     layer.pen = Pen{std::string(r.cross ? "tree-c" : "tree-") + to_string(tl.kind), colors::black, pen};
-    layer.lines.reserve(tl.edges.size());
-    std::fill(degree.begin(), degree.end(), 0);
-    for (const Edge& e : tl.edges) ++degree[e.a], ++degree[e.b];
-    // Linked: the points' positions, then one vertex of its own for every segment end
-    // that stops short of a crowded point (the trail ends there).
+    // Linked: the points' positions, then (trails) one vertex of its own for every
+    // segment end that stops short of a crowded point (the trail ends there).
     std::vector<Vec2> pos;
     std::vector<TrailEdge> trail_edges;
     if (strokes.link) {
       pos.reserve(n);
       for (size_t i = 0; i < n; ++i) pos.push_back(tf.map(r.points.x[i] + 0.5, r.points.y[i] + 0.5));
     }
-    if (outline) {
-      std::vector<TrailEdge> es;
-      es.reserve(tl.edges.size());
-      for (const Edge& e : tl.edges) es.push_back({e.a, e.b});
-      layer.lines = forest_outlines(pos, es, (strokes.weight - 1) * pen / 2);
+    if (outline) {  // no crowd gaps: the loop passes round every point
+      trail_edges.reserve(tl.edges.size());
+      for (const Edge& e : tl.edges) trail_edges.push_back({e.a, e.b});
+      layer.lines = forest_outlines(pos, trail_edges, (strokes.weight - 1) * pen / 2);
       d.layers.push_back(std::move(layer));
       continue;
     }
+    layer.lines.reserve(tl.edges.size());
+    std::fill(degree.begin(), degree.end(), 0);
+    for (const Edge& e : tl.edges) ++degree[e.a], ++degree[e.b];
     for (const Edge& e : tl.edges) {
       Vec2 a = tf.map(r.points.x[e.a] + 0.5, r.points.y[e.a] + 0.5);
       Vec2 b = tf.map(r.points.x[e.b] + 0.5, r.points.y[e.b] + 0.5);
