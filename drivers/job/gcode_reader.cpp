@@ -1,12 +1,14 @@
 #include "drivers/job/gcode_reader.hpp"
 
 #include <cctype>
+#include <cstdint>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
 #include <sstream>
 
 #include "util/error.hpp"
+#include "util/units.hpp"
 
 namespace stipplot::io {
 
@@ -76,26 +78,54 @@ struct ToolState {
 
 std::string gcode_line_text(const std::string& raw) { return clean_gcode_line(raw); }
 
-std::vector<GcodeWord> gcode_words(const std::string& line) {
-  std::vector<GcodeWord> w;
-  size_t i = 0;
+std::string_view gcode_line_view(std::string_view raw, std::string& scratch) {
+  if (raw.find_first_of("(;\r") != std::string_view::npos) {
+    scratch = clean_gcode_line(std::string(raw));
+    return scratch;
+  }
+  const size_t b = raw.find_first_not_of(" \t");
+  if (b == std::string_view::npos) return {};
+  return raw.substr(b, raw.find_last_not_of(" \t") - b + 1);
+}
+
+namespace detail {
+
+double gcode_number(std::string_view digits) {
+  // Blanks inside a number are dropped (grbl reads "X1 2.5" as X12.5): rare, copied.
+  if (digits.find(' ') != std::string_view::npos) {
+    std::string packed;
+    for (char c : digits)
+      if (c != ' ') packed.push_back(c);
+    return packed.empty() ? 0.0 : std::strtod(packed.c_str(), nullptr);
+  }
+  double v = 0;
+  if (short_decimal(digits, v)) return v;  // most numbers: exact without strtod
+  return digits.empty() ? 0.0 : std::strtod(std::string(digits).c_str(), nullptr);  // anything else as strtod reads it
+}
+
+bool gcode_word_scan(std::string_view line, size_t& i, GcodeWord& w) {
   while (i < line.size()) {
-    char c = static_cast<char>(std::toupper(static_cast<unsigned char>(line[i])));
+    const char c = line[i] >= 'a' && line[i] <= 'z' ? static_cast<char>(line[i] - 'a' + 'A') : line[i];
     if (c == ' ' || c == '\t') {
       ++i;
       continue;
     }
-    if (c == '$' || c == '%') return {};  // system command or tape marker: no words
     ++i;
-    size_t start = i;
+    const size_t start = i;
     while (i < line.size() && (std::isdigit(static_cast<unsigned char>(line[i])) || line[i] == '.' ||
                                line[i] == '-' || line[i] == '+' || line[i] == ' '))
       ++i;
-    std::string num;
-    for (size_t k = start; k < i; ++k)
-      if (line[k] != ' ') num.push_back(line[k]);
-    w.push_back({c, num.empty() ? 0.0 : std::strtod(num.c_str(), nullptr)});
+    w = {c, gcode_number(line.substr(start, i - start))};
+    return true;
   }
+  return false;
+}
+
+}  // namespace detail
+
+std::vector<GcodeWord> gcode_words(std::string_view line) {
+  std::vector<GcodeWord> w;
+  for_each_gcode_word(line, [&](const GcodeWord& word) { w.push_back(word); });
   return w;
 }
 

@@ -3,6 +3,7 @@
 // the pen state and position after each line. The word lexer and the modal state are
 // exposed for resume planning, which replays a job's modes up to a line.
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "drivers/job/job.hpp"
@@ -23,13 +24,20 @@ Job parse_gcode_job(const std::string& text, const GcodePenRule& rule = {});
 // A raw line as the job keeps it: ( ) and ';' comments, '\r' and outer blanks dropped
 // ("" for a comment or blank line).
 std::string gcode_line_text(const std::string& raw);
+// The same as a view: into `raw` itself when it has no comment or '\r' (a writer's lines),
+// else into `scratch`. No allocation for a plain line. O(line length).
+std::string_view gcode_line_view(std::string_view raw, std::string& scratch);
 
 // A letter and its number ("X12.5"); '$' system commands and '%' tape marks have none.
 struct GcodeWord {
   char letter;
   double value;
 };
-std::vector<GcodeWord> gcode_words(const std::string& line);
+std::vector<GcodeWord> gcode_words(std::string_view line);
+// Calls f(word) for each word of a cleaned line in order, allocating nothing (the job
+// timer reads millions of lines). A line with '$' or '%' has none, as in gcode_words.
+template <class F>
+void for_each_gcode_word(std::string_view line, F&& f);
 // G4: a dwell.
 bool is_dwell(const GcodeWord& w);
 
@@ -41,5 +49,21 @@ struct GcodeModes {
   // Applies a G word; false if it sets none of these modes.
   bool apply(const GcodeWord& g);
 };
+
+namespace detail {
+// A word's number as written ("12.5", "-3", "+.5", "1 2.5" with blanks inside); 0 when
+// it is none (as strtod gives). O(length).
+double gcode_number(std::string_view digits);
+// The next word from line[i] on, i past it; false at the line's end.
+bool gcode_word_scan(std::string_view line, size_t& i, GcodeWord& w);
+}  // namespace detail
+
+template <class F>
+void for_each_gcode_word(std::string_view line, F&& f) {
+  if (line.find_first_of("$%") != std::string_view::npos) return;  // system command or tape marker
+  size_t i = 0;
+  GcodeWord w{};
+  while (detail::gcode_word_scan(line, i, w)) f(w);
+}
 
 }  // namespace stipplot::io

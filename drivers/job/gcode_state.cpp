@@ -4,14 +4,14 @@
 
 namespace stipplot::io {
 
-GcodeEffect GcodeState::apply(const std::string& line) {
+GcodeEffect GcodeState::apply(std::string_view line) {
   GcodeEffect e;
   bool axis[3] = {false, false, false};
   double value[3] = {0, 0, 0};
   int spindle = spindle_;
   double s = s_;
   bool have_s = false;
-  for (const GcodeWord& w : gcode_words(line)) {
+  for_each_gcode_word(line, [&](const GcodeWord& w) {
     switch (w.letter) {
       case 'G':
         if (!modes_.apply(w) && is_dwell(w)) e.dwell = true;
@@ -32,7 +32,7 @@ GcodeEffect GcodeState::apply(const std::string& line) {
       case 'Z': axis[2] = true, value[2] = w.value; break;
       default: break;
     }
-  }
+  });
   // grbl (gcode.c): a new S while the spindle runs, or a new spindle state, is synced.
   e.spindle_change = spindle != spindle_ || (have_s && spindle != 0 && s != s_);
   spindle_ = spindle;

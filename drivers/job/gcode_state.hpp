@@ -25,7 +25,7 @@ struct GcodeEffect {
 class GcodeState {
  public:
   // Applies one job line (comments already stripped). O(line length).
-  GcodeEffect apply(const std::string& line);
+  GcodeEffect apply(std::string_view line);
   // The machine is at `mm` (it starts at zero).
   void set_position(const std::array<double, 3>& mm) { pos_ = mm; }
 

@@ -3,6 +3,7 @@
 #include "drivers/job/ebb_reader.hpp"
 
 #include <algorithm>
+#include <deque>
 #include <cmath>
 #include <limits>
 
@@ -19,12 +20,11 @@ namespace stipplot::io {
 struct GcodeTimer::Impl {
   Impl(const motion::GrblSettings& s, const GcodeLink& l) : m(s), link(l) {}
 
-  void feed(const std::string& text) {
+  void feed(std::string_view text) {
     const size_t i = t.done_s.size();
     t.done_s.push_back(-1);
-    bytes.push_back(text.size() + 1);
-    acked.push_back(0);
-    const double arrives = arrival(i);
+    window.push_back({text.size() + 1, 0.0});
+    const double arrives = arrival();
     if (arrives > now) run_until([] { return false; }, arrives);
     now = std::max(now, arrives);
     const GcodeEffect e = st.apply(text);
@@ -39,7 +39,7 @@ struct GcodeTimer::Impl {
     } else {
       t.done_s[i] = now;
     }
-    acked[i] = now;  // grbl answers when the parser is done with the line
+    window.back().acked = now;  // grbl answers when the parser is done with the line
   }
 
   JobTiming finish() {
@@ -54,19 +54,24 @@ struct GcodeTimer::Impl {
     return t;
   }
 
-  // When line i is in grbl's receive buffer: the host sends it once the unanswered lines
-  // before it and it fit the buffer (their answers travel back over the wire), and the
-  // wire is free.
-  double arrival(size_t i) {
-    if (!(link.baud > 0)) return 0;
-    const double byte_s = 10.0 / link.baud, answer_s = 4 * byte_s + link.latency_s;
-    double at = wire_free;
-    while (window_first < i && window_bytes + bytes[i] > static_cast<size_t>(link.rx_buffer)) {
-      at = std::max(at, acked[window_first] + answer_s);
-      window_bytes -= bytes[window_first++];
+  // When the newest line is in grbl's receive buffer: the host sends it once the
+  // unanswered lines before it and it fit the buffer (their answers travel back over the
+  // wire), and the wire is free.
+  double arrival() {
+    if (!(link.baud > 0)) {
+      window.erase(window.begin(), window.end() - 1);
+      return 0;
     }
-    window_bytes += bytes[i];
-    wire_free = at + static_cast<double>(bytes[i]) * byte_s;
+    const double byte_s = 10.0 / link.baud, answer_s = 4 * byte_s + link.latency_s;
+    const size_t bytes = window.back().bytes;
+    double at = wire_free;
+    while (window.size() > 1 && window_bytes + bytes > static_cast<size_t>(link.rx_buffer)) {
+      at = std::max(at, window.front().acked + answer_s);
+      window_bytes -= window.front().bytes;
+      window.pop_front();
+    }
+    window_bytes += bytes;
+    wire_free = at + static_cast<double>(bytes) * byte_s;
     return wire_free + link.latency_s;
   }
 
@@ -91,10 +96,16 @@ struct GcodeTimer::Impl {
   GcodeLink link;
   GcodeState st;
   JobTiming t;
-  std::vector<double> acked;
-  std::vector<size_t> bytes;
+  // The lines sent whose answers the host has not yet counted, the newest last: their
+  // bytes and when grbl answered (only these, not every line: 5M lines of 1M dots).
+  struct Sent {
+    size_t bytes;
+    double acked;
+  };
+  std::deque<Sent> window;
+  std::string scratch;  // a line cleaned of its comment
   double now = 0, wire_free = 0;
-  size_t window_first = 0, window_bytes = 0;
+  size_t window_bytes = 0;
 };
 
 GcodeTimer::GcodeTimer(const motion::GrblSettings& machine, const GcodeLink& link)
@@ -102,11 +113,13 @@ GcodeTimer::GcodeTimer(const motion::GrblSettings& machine, const GcodeLink& lin
 GcodeTimer::~GcodeTimer() = default;
 
 void GcodeTimer::feed(std::string_view raw_line) {
-  const std::string text = gcode_line_text(std::string(raw_line));
+  const std::string_view text = gcode_line_view(raw_line, impl_->scratch);
   if (!text.empty()) impl_->feed(text);
 }
 
 size_t GcodeTimer::lines() const { return impl_->t.done_s.size(); }
+
+void GcodeTimer::reserve(size_t lines) { impl_->t.done_s.reserve(lines); }
 
 JobTiming GcodeTimer::finish() { return impl_->finish(); }
 

@@ -43,7 +43,7 @@ struct GcodeLink {
 
 // G-code through grbl's motion, streamed as `link` says, one line at a time (a writer
 // can time what it writes without keeping it). Machine coordinates are the job's (G54 at
-// zero). O(planner blocks) per line; keeps 16 bytes per line.
+// zero). O(planner blocks) per line; keeps 8 bytes per line (when it is done).
 class GcodeTimer {
  public:
   GcodeTimer(const motion::GrblSettings& machine, const GcodeLink& link = {});
@@ -53,6 +53,9 @@ class GcodeTimer {
   // A line as written (comments and blank lines are dropped, as grbl drops them).
   void feed(std::string_view raw_line);
   size_t lines() const;  // lines fed that grbl sees
+  // Room for this many lines' times at once: a job of millions of lines then never holds
+  // its times twice while they grow (untouched room is not resident). O(1).
+  void reserve(size_t lines);
   JobTiming finish();
 
  private:
@@ -68,6 +71,7 @@ class HpglTimer {
   // takes no plotter time but counts as a pause.
   void feed(std::string_view instruction, bool host_only = false, bool pause = false);
   size_t lines() const { return t_.done_s.size(); }
+  void reserve(size_t lines) { t_.done_s.reserve(lines); }
   JobTiming finish() { return t_; }
 
  private:
@@ -86,6 +90,7 @@ class EbbTimer {
  public:
   void feed(std::string_view line, bool host_only = false, bool pause = false);
   size_t lines() const { return t_.done_s.size(); }
+  void reserve(size_t lines) { t_.done_s.reserve(lines); }
   JobTiming finish() { return t_; }
 
  private:

@@ -9,8 +9,15 @@ double dist(Vec2 a, Vec2 b) { return std::hypot(a.x - b.x, a.y - b.y); }
 }  // namespace
 
 PlanStats plan_stats(const Plan& plan, const MotionParams& m, Vec2 origin, bool return_home) {
-  PlanStats st;
+  PlanStats st = plan_lengths(plan, origin, return_home);
   const motion::MotionTimeline tl = motion::simulate_motion(plan, m, origin, return_home);
+  for (size_t li = 0; li < st.layers.size(); ++li) st.layers[li].seconds = tl.layer_seconds[li];
+  st.total.seconds = tl.total_seconds;
+  return st;
+}
+
+PlanStats plan_lengths(const Plan& plan, Vec2 origin, bool return_home) {
+  PlanStats st;
   Vec2 pos = origin;
   st.total.pen = "total";
   for (size_t li = 0; li < plan.layers.size(); ++li) {
@@ -26,7 +33,6 @@ PlanStats plan_stats(const Plan& plan, const MotionParams& m, Vec2 origin, bool 
       for (size_t k = 1; k < s.pts.size(); ++k) ls.pen_down_mm += dist(s.pts[k - 1], s.pts[k]);
       pos = s.pts.back();
     }
-    ls.seconds = tl.layer_seconds[li];
     st.total.strokes += ls.strokes;
     st.total.touches += ls.touches;
     st.total.pen_lifts += ls.pen_lifts;
@@ -36,7 +42,6 @@ PlanStats plan_stats(const Plan& plan, const MotionParams& m, Vec2 origin, bool 
   }
   if (return_home) st.home_mm = dist(pos, origin);
   st.total.pen_up_mm += st.home_mm;
-  st.total.seconds = tl.total_seconds;
   return st;
 }
 

@@ -30,6 +30,11 @@ struct PlanStats {
 // previous one ended.
 PlanStats plan_stats(const Plan& plan, const MotionParams& m, Vec2 origin = {0, 0}, bool return_home = false);
 
+// The same lengths and counts with every `seconds` 0, for a job whose written lines are
+// timed instead (cli/job_estimate.hpp): the motion model's run would be thrown away (a
+// third of a second for 1M dots). O(points).
+PlanStats plan_lengths(const Plan& plan, Vec2 origin = {0, 0}, bool return_home = false);
+
 nlohmann::json to_json(const LayerStats& s);
 nlohmann::json to_json(const PlanStats& s);  // {"layers": [...], "total": {...}, "home_mm": x}
 

@@ -5,7 +5,7 @@
 
 namespace stipplot::cli {
 
-JobEstimate::JobEstimate(const DeviceProfile& p) {
+JobEstimate::JobEstimate(const DeviceProfile& p, size_t expected_lines) {
   if (p.protocol == Protocol::grbl) {
     io::GcodeLink link;
     link.baud = p.serial.port.baud;
@@ -19,6 +19,9 @@ JobEstimate::JobEstimate(const DeviceProfile& p) {
     hpgl_ = std::make_unique<io::HpglTimer>(hpgl_motion_for(p));
     feed_ = [this](std::string_view l) { hpgl_->feed(l); };
   }
+  if (gcode_) gcode_->reserve(expected_lines);
+  if (ebb_) ebb_->reserve(expected_lines);
+  if (hpgl_) hpgl_->reserve(expected_lines);
 }
 
 JobEstimate::~JobEstimate() {

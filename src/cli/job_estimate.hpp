@@ -24,7 +24,9 @@ namespace stipplot::cli {
 
 class JobEstimate {
  public:
-  explicit JobEstimate(const DeviceProfile& profile);
+  // `expected_lines`: about how many lines the writer will write (room reserved for their
+  // times; more is harmless, fewer only grows as it goes).
+  explicit JobEstimate(const DeviceProfile& profile, size_t expected_lines = 0);
   ~JobEstimate();
   JobEstimate(const JobEstimate&) = delete;
   JobEstimate& operator=(const JobEstimate&) = delete;

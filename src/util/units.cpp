@@ -1,8 +1,10 @@
 #include "util/units.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <cstdint>
 
 #include "util/error.hpp"
 
@@ -35,6 +37,33 @@ size_t number_length(std::string_view s) {
 }
 }  // namespace
 
+bool short_decimal(std::string_view text, double& value) {
+  static constexpr double kPow10[] = {1e0, 1e1, 1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                      1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15};
+  if (text.empty()) return false;
+  size_t i = 0;
+  const bool negative = text[0] == '-';
+  if (text[0] == '-' || text[0] == '+') ++i;
+  uint64_t m = 0;
+  int count = 0, fraction = -1;  // digits read; digits after the point (-1: no point yet)
+  for (; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c >= '0' && c <= '9') {
+      if (++count > 15) return false;
+      m = m * 10 + static_cast<uint64_t>(c - '0');
+      if (fraction >= 0) ++fraction;
+    } else if (c == '.' && fraction < 0) {
+      fraction = 0;
+    } else {
+      return false;
+    }
+  }
+  if (count == 0) return false;
+  const double v = static_cast<double>(m) / kPow10[std::max(fraction, 0)];
+  value = negative ? -v : v;
+  return true;
+}
+
 bool split_number_unit(std::string_view text, double& value, std::string& unit) {
   while (!text.empty() && blank(text.front())) text.remove_prefix(1);
   while (!text.empty() && blank(text.back())) text.remove_suffix(1);
@@ -44,8 +73,10 @@ bool split_number_unit(std::string_view text, double& value, std::string& unit) 
   const bool negative = num.front() == '-';
   if (num.front() == '-' || num.front() == '+') num.remove_prefix(1);
   double v = 0;
-  const auto [end, ec] = std::from_chars(num.data(), num.data() + num.size(), v);
-  if (ec != std::errc() || end != num.data() + num.size()) return false;
+  if (!short_decimal(num, v)) {
+    const auto [end, ec] = std::from_chars(num.data(), num.data() + num.size(), v);
+    if (ec != std::errc() || end != num.data() + num.size()) return false;
+  }
   std::string_view rest = text.substr(n);
   while (!rest.empty() && blank(rest.front())) rest.remove_prefix(1);
   unit.clear();

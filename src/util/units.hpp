@@ -9,6 +9,13 @@
 
 namespace stipplot {
 
+// A decimal of at most 15 digits with an optional sign and point ("-12.345", "+.5",
+// "7."), as the correctly rounded double strtod gives, -0 included; false for anything
+// else (then strtod or from_chars). Exact: the digits' integer and 10^k are exact
+// doubles, so one division rounds once (Clinger's fast path). Millions of numbers are
+// read this way (an SVG's coordinates, a G-code job's words). O(length).
+bool short_decimal(std::string_view text, double& value);
+
 // Splits "12.5mm", " 3 px", "0.4" into the number and the unit word (lower-cased, maybe
 // empty). False unless the text is a plain decimal number (sign, digits, point,
 // exponent; no hex, inf or nan) followed by nothing but letters and blanks.

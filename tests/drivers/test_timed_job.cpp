@@ -3,6 +3,8 @@
 // run the same models over a pty, and the estimate the CLI reports from written lines.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
+#include <random>
 #include <nlohmann/json.hpp>
 
 #include "drivers/device/motion_setup.hpp"
@@ -18,6 +20,7 @@
 #include "sim/grbl_sim.hpp"
 #include "sim/hpgl_sim.hpp"
 #include "test_util.hpp"
+#include "util/units.hpp"
 
 using namespace stipplot;
 using namespace stipplot::motion;
@@ -153,6 +156,57 @@ TEST_CASE("the job timer: character counting over a slow wire starves the planne
   for (const auto& l : job.lines) bytes += l.text.size() + 1;
   CHECK(t_slow.total_s > 10.0 * static_cast<double>(bytes) / 1200 * 0.95);  // the wire sets the pace
   CHECK(t_slow.stops > 30);  // and the machine stops at nearly every line
+}
+
+TEST_CASE("G-code words: numbers read as strtod reads them, bit for bit, without allocating", "[gcode][timing]") {
+  // The lexer's fast path (at most 15 digits: one exact division) and its strtod fallback.
+  std::mt19937_64 rng(7);
+  std::vector<std::string> numbers = {"0",   "-0",  "+5",   "1.",   ".5",   "-.25", "+.5",  "12.345678",
+                                      "1.2.3", "--5", "+-5", "-",   "+",    ".",    "0.1",  "123456789012345",
+                                      "1234567890123456", "0.30000000000000004", "99999999999999999999",
+                                      "1" + std::string(400, '0'), "0." + std::string(30, '0') + "1"};
+  std::uniform_int_distribution<int> len(1, 19), digit(0, 9), point(0, 20);
+  for (int k = 0; k < 20000; ++k) {
+    std::string t = (k % 3 == 0) ? "-" : "";
+    const int n = len(rng), at = point(rng);
+    for (int j = 0; j < n; ++j) {
+      if (j == at) t += '.';
+      t += static_cast<char>('0' + digit(rng));
+    }
+    numbers.push_back(t);
+  }
+  size_t fast = 0;
+  for (const std::string& t : numbers) {
+    INFO(t);
+    const double want = std::strtod(t.c_str(), nullptr);
+    const double got = io::detail::gcode_number(t);
+    CHECK(std::memcmp(&want, &got, sizeof want) == 0);  // the same bits, -0 included
+    double v = 0;
+    if (short_decimal(t, v)) {
+      ++fast;
+      CHECK(std::memcmp(&want, &v, sizeof want) == 0);
+    }
+  }
+  CHECK(fast > numbers.size() / 2);  // the fast path was taken, not only strtod
+  // The visitor and the vector agree, and a line with '$' or '%' has no words.
+  for (const std::string line : {"G1 X12.5 Y-3 F3000", "g0x1y2", "G1 X1 2.5", "M3 S1000", "$H", "G1 X5 $H", "%", "G4 P0.15"}) {
+    INFO(line);
+    std::vector<io::GcodeWord> seen;
+    io::for_each_gcode_word(line, [&](const io::GcodeWord& w) { seen.push_back(w); });
+    const std::vector<io::GcodeWord> words = io::gcode_words(line);
+    REQUIRE(seen.size() == words.size());
+    for (size_t i = 0; i < seen.size(); ++i) {
+      CHECK(seen[i].letter == words[i].letter);
+      CHECK(seen[i].value == words[i].value);
+    }
+  }
+  CHECK(io::gcode_words("G1 X5 $H").empty());
+  CHECK(io::gcode_words("g0x1y2").size() == 3);
+  CHECK(io::gcode_words("G1 X1 2.5")[1].value == 12.5);
+  std::string scratch;
+  CHECK(io::gcode_line_view("  G1 X5  ", scratch) == "G1 X5");
+  CHECK(io::gcode_line_view("G1 X5 (note) Y2 ; more\r", scratch) == "G1 X5  Y2");
+  CHECK(io::gcode_line_view("; only a comment", scratch).empty());
 }
 
 TEST_CASE("the job timer agrees with the simulated grbl, which runs the same motion over a pty", "[motion][grbl][timing][e2e][realtime]") {
