@@ -5,6 +5,11 @@
 
 #include <algorithm>
 #include <array>
+#include <condition_variable>
+#include <deque>
+#include <filesystem>
+#include <mutex>
+#include <thread>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -21,6 +26,7 @@
 
 #include "geometry/affine.hpp"
 #include "svg/text_layout.hpp"
+#include "util/threads.hpp"
 #include "util/error.hpp"
 #include "util/units.hpp"
 
@@ -186,6 +192,7 @@ class Reader {
    public:
     explicit Declared(const tinyxml2::XMLElement* e) {
       const char* style = nullptr;
+      attrs_.reserve(8);  // one allocation for most elements, not one per doubling
       for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next()) {
         if (!style && std::strcmp(a->Name(), "style") == 0) style = a->Value();
         else attrs_.emplace_back(a->Name(), a->Value());
@@ -522,11 +529,13 @@ class Reader {
   // The element's own transform and style on top of its parent's; false when nothing of
   // it is drawn (an element that is never drawn, display:none).
   bool open(const tinyxml2::XMLElement* e, const char* tag, Affine& ctm, Style& style) {
-    static const char* kSkip[] = {"defs", "title", "desc", "metadata", "symbol", "clipPath", "mask", "pattern",
-                                  "marker", "style", "script", "namedview", "linearGradient", "radialGradient",
-                                  "filter", "image", "foreignObject", "switch", "flowRegion"};
-    for (const char* s : kSkip)
-      if (std::strcmp(tag, s) == 0) return false;
+    // Sorted, for a binary search: every element of a large drawing asks.
+    static constexpr std::string_view kSkip[] = {
+        "clipPath", "defs",    "desc",    "filter", "flowRegion", "foreignObject", "image",  "linearGradient",
+        "marker",   "mask",    "metadata", "namedview", "pattern", "radialGradient", "script", "style",
+        "switch",   "symbol",  "title"};
+    static_assert(std::is_sorted(std::begin(kSkip), std::end(kSkip)));
+    if (std::binary_search(std::begin(kSkip), std::end(kSkip), std::string_view(tag))) return false;
     if (display_none(e)) return false;
     // The document's own elements are already in memory; only <use> multiplies them.
     if (use_depth_ > 0 && ++use_copies_ > opt_.max_use_copies)
@@ -1194,6 +1203,10 @@ class Reader {
   Layer& layer_for(const Style& style, const std::string* label, Color& colour_out) {
     const Paint& paint = !style.stroke.none ? style.stroke : style.fill;
     colour_out = paint.none ? colors::black : paint.color;
+    // Consecutive shapes nearly always share a layer: no key built, no lookup.
+    if (last_layer_.valid && (label ? last_layer_.labelled && last_layer_.label == *label
+                                    : !last_layer_.labelled && last_layer_.colour == colour_out))
+      return drawing_.layers[last_layer_.index];
     std::string key = label ? "L:" + *label : "C:" + colour_out.hex();
     auto it = index_.find(key);
     if (it == index_.end()) {
@@ -1221,6 +1234,11 @@ class Reader {
       layer.pen.color = colour_out;
       layer.pen.width_mm = style.stroke_width_mm > 0 ? style.stroke_width_mm : opt_.default_pen_width_mm;
     }
+    last_layer_.valid = true;
+    last_layer_.labelled = label != nullptr;
+    if (label) last_layer_.label = *label;
+    last_layer_.colour = colour_out;
+    last_layer_.index = info.index;
     return layer;
   }
 
@@ -1290,6 +1308,12 @@ class Reader {
   const SvgReadOptions& opt_;
   Drawing drawing_;
   std::map<std::string, LayerInfo> index_;
+  struct LastLayer {  // the layer layer_for gave last, its pen set
+    bool valid = false, labelled = false;
+    std::string label;
+    Color colour;
+    size_t index = 0;
+  } last_layer_;
   std::map<std::string, const tinyxml2::XMLElement*> ids_;
   int use_depth_ = 0;
   size_t use_copies_ = 0, points_ = 0;               // work so far, against the options' caps
@@ -1340,6 +1364,14 @@ struct Source {
       const bool last = n < buf.size() && std::feof(file.get());
       if (!f(buf.data(), n, last) || last) return;
     }
+  }
+
+  // Bytes in the source (0 when its size cannot be told: read as a small one).
+  size_t size() const {
+    if (text) return text->size();
+    std::error_code ec;
+    const auto n = std::filesystem::file_size(path, ec);
+    return ec ? 0 : static_cast<size_t>(n);
   }
 
   std::string whole() const {
@@ -1424,21 +1456,162 @@ std::optional<std::unordered_set<std::string>> referenced_ids(const Source& src)
   return ids;
 }
 
+// expat's callbacks as data, for replaying on another thread: element starts (name and
+// attribute strings), ends, character data and the markup that splits it.
+struct XmlEvents {
+  enum Kind : uint8_t { start, end, chars, markup };
+  struct Event {
+    Kind kind;
+    int line;        // start: the element's line
+    uint32_t first;  // start: its name's index in offsets; chars: offset in text
+    uint32_t count;  // start: 1 + 2 x attributes; chars: bytes
+  };
+  std::string text;               // names and values, each NUL-terminated; character data
+  std::vector<uint32_t> offsets;  // where each string of a start begins in text
+  std::vector<Event> events;
+  bool full() const { return events.size() >= 16384 || text.size() >= (size_t{1} << 20); }
+  uint32_t add(const char* s, size_t n, bool terminate) {
+    const uint32_t at = static_cast<uint32_t>(text.size());
+    text.append(s, n);
+    if (terminate) text.push_back('\0');
+    return at;
+  }
+};
+
+// Runs expat over a source on the calling thread, handing its events over in batches
+// (a few ahead at most: memory stays bounded) to a reader that takes them with next().
+class Tokenizer {
+ public:
+  void run(const Source& src) {
+    Expat x;
+    x_ = &x;
+    XML_SetUserData(x.get(), this);
+    XML_SetElementHandler(
+        x.get(),
+        [](void* u, const XML_Char* name, const XML_Char** attrs) {
+          auto* t = static_cast<Tokenizer*>(u);
+          t->x_->guard([&] { t->start(name, attrs); });
+        },
+        [](void* u, const XML_Char*) {
+          auto* t = static_cast<Tokenizer*>(u);
+          t->x_->guard([&] { t->record({XmlEvents::end, 0, 0, 0}); });
+        });
+    XML_SetCharacterDataHandler(x.get(), [](void* u, const XML_Char* d, int n) {
+      auto* t = static_cast<Tokenizer*>(u);
+      t->x_->guard([&] { t->chars(d, static_cast<size_t>(n)); });
+    });
+    XML_SetCommentHandler(x.get(), [](void* u, const XML_Char*) {
+      auto* t = static_cast<Tokenizer*>(u);
+      t->x_->guard([&] { t->record({XmlEvents::markup, 0, 0, 0}); });
+    });
+    XML_SetProcessingInstructionHandler(x.get(), [](void* u, const XML_Char*, const XML_Char*) {
+      auto* t = static_cast<Tokenizer*>(u);
+      t->x_->guard([&] { t->record({XmlEvents::markup, 0, 0, 0}); });
+    });
+    bool ok = false;
+    std::exception_ptr error;
+    try {
+      ok = x.parse(src);
+    } catch (...) {
+      error = std::current_exception();  // a read error, or the reader gave up (abandon)
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!filling_.events.empty()) queue_.push_back(std::move(filling_));
+    ok_ = ok;
+    error_ = error;
+    done_ = true;
+    changed_.notify_all();
+  }
+
+  // The next batch in order; false once all are taken. Rethrows what stopped the tokenising.
+  bool next(XmlEvents& out) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return done_ || !queue_.empty(); });
+    if (queue_.empty()) {
+      if (error_) std::rethrow_exception(error_);
+      return false;
+    }
+    out = std::move(queue_.front());
+    queue_.pop_front();
+    changed_.notify_all();
+    return true;
+  }
+  // The reader stopped (an error of its own): the tokenising stops at its next event.
+  void abandon() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    abandoned_ = true;
+    changed_.notify_all();
+  }
+  bool result() const { return ok_; }  // after run: false when the XML is malformed
+
+ private:
+  struct Abandoned {};
+
+  void start(const XML_Char* name, const XML_Char** attrs) {
+    XmlEvents& b = filling_;
+    uint32_t count = 1;
+    const uint32_t first = static_cast<uint32_t>(b.offsets.size());
+    b.offsets.push_back(b.add(name, std::strlen(name), true));
+    for (int i = 0; attrs[i]; ++i, ++count) b.offsets.push_back(b.add(attrs[i], std::strlen(attrs[i]), true));
+    record({XmlEvents::start, static_cast<int>(XML_GetCurrentLineNumber(x_->get())), first, count});
+  }
+  void chars(const char* d, size_t n) {
+    XmlEvents& b = filling_;
+    // Runs of character data are one event, as the reader appends them all the same.
+    if (!b.events.empty() && b.events.back().kind == XmlEvents::chars && b.events.back().first + b.events.back().count == b.text.size()) {
+      b.add(d, n, false);
+      b.events.back().count += static_cast<uint32_t>(n);
+      return;
+    }
+    const uint32_t at = b.add(d, n, false);
+    record({XmlEvents::chars, 0, at, static_cast<uint32_t>(n)});
+  }
+  void record(const XmlEvents::Event& e) {
+    filling_.events.push_back(e);
+    if (!filling_.full()) return;
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [this] { return abandoned_ || queue_.size() < 4; });
+    if (abandoned_) throw Abandoned{};
+    queue_.push_back(std::move(filling_));
+    filling_ = XmlEvents{};
+    changed_.notify_all();
+  }
+
+  Expat* x_ = nullptr;
+  XmlEvents filling_;
+  std::deque<XmlEvents> queue_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  bool done_ = false, ok_ = false, abandoned_ = false;
+  std::exception_ptr error_;
+};
+
 // Pass 2 (see above).
 class StreamReader {
  public:
   StreamReader(Reader& reader, std::unordered_set<std::string> targets)
-      : r_(reader), targets_(std::move(targets)) {}
+      : r_(reader), targets_(std::move(targets)), opt_tokenize_apart_(reader.opt_.tokenize_apart_from_bytes) {}
 
   Drawing run(const Source& src) {
+    if (src.size() >= opt_tokenize_apart_ && (thread_count() >= 2 || opt_tokenize_apart_ == 0)) {
+      if (!run_apart(src)) throw NeedsTree{};  // malformed XML: tinyxml2 reads it or says why
+    } else {
+      if (!run_here(src)) throw NeedsTree{};
+    }
+    if (!root_drawn_) return std::move(r_.drawing_);
+    return r_.finish();
+  }
+
+ private:
+  // expat's callbacks drawing as they come; false when the XML is malformed.
+  bool run_here(const Source& src) {
     Expat x;
-    expat_ = x.get();
     XML_SetUserData(x.get(), this);
     XML_SetElementHandler(
         x.get(),
         [](void* u, const XML_Char* name, const XML_Char** attrs) {
           auto* s = static_cast<StreamReader*>(u);
-          s->x_->guard([&] { s->start(name, attrs); });
+          s->x_->guard([&] { s->start(name, attrs, static_cast<int>(XML_GetCurrentLineNumber(s->x_->get()))); });
         },
         [](void* u, const XML_Char*) {
           auto* s = static_cast<StreamReader*>(u);
@@ -1458,12 +1631,44 @@ class StreamReader {
       s->x_->guard([&] { s->flush_text(); });
     });
     x_ = &x;
-    if (!x.parse(src)) throw NeedsTree{};  // malformed XML: tinyxml2 reads it or says why
-    if (!root_drawn_) return std::move(r_.drawing_);
-    return r_.finish();
+    return x.parse(src);
   }
 
- private:
+  // expat on a thread of its own, its callbacks recorded in batches (XmlEvents) that this
+  // thread replays in order through the same start/end/text calls: the same drawing, with
+  // the tokenising (a third of the reading) on the other core. False when malformed.
+  bool run_apart(const Source& src) {
+    Tokenizer tok;
+    std::thread worker([&] { tok.run(src); });
+    try {
+      std::vector<const char*> attrs;
+      for (XmlEvents batch; tok.next(batch);) {
+        for (const XmlEvents::Event& e : batch.events) {
+          switch (e.kind) {
+            case XmlEvents::start: {
+              attrs.clear();
+              for (uint32_t k = 1; k < e.count; ++k) attrs.push_back(batch.text.data() + batch.offsets[e.first + k]);
+              attrs.push_back(nullptr);
+              start(batch.text.data() + batch.offsets[e.first], attrs.data(), e.line);
+              break;
+            }
+            case XmlEvents::end: end(); break;
+            case XmlEvents::chars:
+              if (held_top_ != kNone) text_.append(batch.text, e.first, e.count);
+              break;
+            case XmlEvents::markup: flush_text(); break;
+          }
+        }
+      }
+    } catch (...) {
+      tok.abandon();
+      worker.join();
+      throw;
+    }
+    worker.join();
+    return tok.result();
+  }
+
   static constexpr size_t kNone = static_cast<size_t>(-1);
 
   struct Frame {
@@ -1475,10 +1680,10 @@ class StreamReader {
     bool keep = false;   // (top of a held subtree) an href names something in it
   };
 
-  void start(const XML_Char* name, const XML_Char** attrs) {
+  void start(const XML_Char* name, const XML_Char** attrs, int line) {
     flush_text();
     tinyxml2::XMLElement* el = doc_.NewElement(name);
-    el->SetUserData(reinterpret_cast<void*>(static_cast<intptr_t>(XML_GetCurrentLineNumber(expat_))));
+    el->SetUserData(reinterpret_cast<void*>(static_cast<intptr_t>(line)));
     const char* id = nullptr;
     for (int i = 0; attrs[i]; i += 2) {
       el->SetAttribute(attrs[i], attrs[i + 1]);
@@ -1564,7 +1769,7 @@ class StreamReader {
   std::string text_;
   bool root_drawn_ = false;
   Expat* x_ = nullptr;
-  XML_Parser expat_ = nullptr;
+  size_t opt_tokenize_apart_;
 };
 
 Drawing read_tree(const std::string& text, const std::string& name, const SvgReadOptions& opt,

@@ -36,6 +36,10 @@ struct SvgReadOptions {
   // Read in two streaming passes, holding only open groups and referenced elements
   // (false: through tinyxml2's tree of the whole file; the tests compare the two).
   bool stream = true;
+  // Streaming, expat tokenises on a thread of its own beside the drawing of the elements
+  // when two threads are allowed (util/threads.hpp) and the source holds at least this
+  // many bytes; 0: always, on any thread count (the tests). The same drawing either way.
+  size_t tokenize_apart_from_bytes = size_t{4} << 20;
 };
 
 // O(elements + output points); the flattening adds points in proportion to

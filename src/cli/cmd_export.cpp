@@ -11,6 +11,7 @@
 #include "svg/svg_reader.hpp"
 #include "util/atomic_file.hpp"
 #include "util/error.hpp"
+#include "util/keep_until_exit.hpp"
 #include "util/output_paths.hpp"
 #include "util/units.hpp"
 
@@ -99,7 +100,8 @@ void register_export(CLI::App& app) {
     s["page_mm"] = {d.page.width_mm, d.page.height_mm};
     s["primitives"] = d.primitive_count();
     s["seconds_read"] = read_s;
-    const Plan plan = write_planned_output(d, a.output, a.profile, a.plan, a.show_travel, s, a.heights);
+    const size_t layers = d.layers.size();
+    Plan plan = write_planned_output(std::move(d), a.output, a.profile, a.plan, a.show_travel, s, a.heights);
     if (!a.preview.empty()) {
       // What the pens will draw: the plan as written, at its pens' widths and colours.
       write_png(render_plan(plan), a.preview);
@@ -110,13 +112,14 @@ void register_export(CLI::App& app) {
     std::ostringstream h;
     h.precision(1);
     h << std::fixed << "wrote " << a.output << " for " << s["profile"].get<std::string>() << ": "
-      << layers_phrase(d.layers.size()) << ", " << total.value("strokes", size_t{0}) << " strokes, pen down "
+      << layers_phrase(layers) << ", " << total.value("strokes", size_t{0}) << " strokes, pen down "
       << total.value("pen_down_mm", 0.0) / 1000 << " m, pen up " << total.value("pen_up_mm", 0.0) / 1000
       << " m, about " << total.value("seconds", 0.0) / 60 << " min to plot (" << s["seconds"].get<double>() << " s)";
     if (!laid_out.empty()) h << "; " << laid_out;
     if (read.missing_glyphs > 0)
       h << "; " << read.missing_glyphs << " characters of text left out (the Hershey fonts have ASCII only)";
     a.report.print(s, h.str());
+    keep_until_exit(std::move(plan));  // a million strokes freed by the exit, not one by one
   });
 }
 

@@ -108,7 +108,12 @@ PlanOptions plan_options_for(const DeviceProfile& profile, const Page& page, con
 void write_plan_file(const Plan& plan, const std::string& path, const DeviceProfile& profile, bool show_travel,
                      nlohmann::json* plan_summary) {
   const OutputKind kind = output_kind(path);
-  JobEstimate timed(profile);  // the written lines' own time, not the plan's
+  // The written lines' own time, not the plan's; about a line a point and five a stroke
+  // (travel, pen down and up with their waits).
+  size_t lines = 64;
+  for (const PlannedLayer& l : plan.layers)
+    for (const Stroke& s : l.strokes) lines += s.pts.size() + 5;
+  JobEstimate timed(profile, lines);
   if (kind == OutputKind::gcode) {
     write_gcode_file(plan, profile, path, timed.gcode_options());
     if (plan_summary) timed.apply(*plan_summary);
@@ -126,9 +131,11 @@ void write_plan_file(const Plan& plan, const std::string& path, const DeviceProf
   }
 }
 
-Plan write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
-                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary,
-                          const PenHeightArgs& heights) {
+namespace {
+// `owned`: `d` itself when the caller gave it up, else null.
+Plan plan_and_write(const Drawing& d, Drawing* owned, const std::string& path, const std::string& profile,
+                    const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary,
+                    const PenHeightArgs& heights) {
   const OutputKind kind = output_kind(path);
   DeviceProfile prof = find_profile(profile);
   heights.apply(prof);
@@ -136,20 +143,37 @@ Plan write_planned_output(const Drawing& d, const std::string& path, const std::
   const PlanOptions po = plan_options_for(prof, d.page, plan_args);
   auto t0 = std::chrono::steady_clock::now();
   PlanInfo plan_info;
-  Plan plan = plan_drawing(d, po, &plan_info);
+  Plan plan = owned ? plan_drawing(std::move(*owned), po, &plan_info) : plan_drawing(d, po, &plan_info);
   double plan_s = seconds_since(t0);
   auto t1 = std::chrono::steady_clock::now();
   summary["output"] = path;
   summary["profile"] = prof.name;
   if (heights.any_given()) summary["pen_heights_pct"] = {prof.pen.pos_up_pct, prof.pen.pos_down_pct};
   // A G-code or EBB job ends with the pen back at machine zero, an HPGL job where it stops.
-  summary["plan"] = to_json(plan_stats(plan, prof.motion, po.origin, kind == OutputKind::gcode || kind == OutputKind::ebb));
+  // A device's job has its written lines timed (write_plan_file): the plan's own model
+  // only times a planned SVG.
+  const bool home = kind == OutputKind::gcode || kind == OutputKind::ebb;
+  summary["plan"] = to_json(kind == OutputKind::svg ? plan_stats(plan, prof.motion, po.origin, home)
+                                                    : plan_lengths(plan, po.origin, home));
   write_plan_file(plan, path, prof, show_travel, &summary["plan"]);
   summary["seconds_plan"] = plan_s;
   // Only a tripped --optimize-seconds cap makes the plan depend on the machine's speed.
   summary["plan_capped"] = plan_info.budget_hit;
   summary["seconds_write"] = seconds_since(t1);
   return plan;
+}
+}  // namespace
+
+Plan write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
+                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary,
+                          const PenHeightArgs& heights) {
+  return plan_and_write(d, nullptr, path, profile, plan_args, show_travel, summary, heights);
+}
+
+Plan write_planned_output(Drawing&& d, const std::string& path, const std::string& profile,
+                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary,
+                          const PenHeightArgs& heights) {
+  return plan_and_write(d, &d, path, profile, plan_args, show_travel, summary, heights);
 }
 
 std::string layers_phrase(size_t n) { return std::to_string(n) + (n == 1 ? " layer" : " layers"); }

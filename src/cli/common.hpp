@@ -60,6 +60,10 @@ void check_profile_for(OutputKind kind, const std::string& path, const std::stri
 Plan write_planned_output(const Drawing& d, const std::string& path, const std::string& profile,
                           const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary,
                           const PenHeightArgs& heights = {});
+// The same for a drawing given up: its primitives are freed as the plan takes them.
+Plan write_planned_output(Drawing&& d, const std::string& path, const std::string& profile,
+                          const PlanArgs& plan_args, bool show_travel, nlohmann::json& summary,
+                          const PenHeightArgs& heights = {});
 
 // The planner's options for a profile: the pen starts at machine zero, so planning
 // starts from there (in page coordinates).

@@ -166,7 +166,7 @@ std::vector<Stroke> order_strokes(std::vector<Stroke> strokes, Vec2 pos, const P
                            std::min(static_cast<double>(total_nodes), PlanOptions::kTrialPointCeiling) * share);
   topt.seconds_cap = opt.optimize_seconds * share;
   plan::TourStats ts;
-  const std::vector<uint32_t> order = plan::plan_tour(pts, partner, pos, topt, &ts);
+  const std::vector<uint32_t> order = plan::plan_tour(std::move(pts), partner, pos, topt, &ts);
   info.budget_hit = info.budget_hit || ts.capped;
   info.improving_moves += ts.moves_2opt + ts.moves_oropt;
   std::vector<Stroke> out;
@@ -187,11 +187,9 @@ std::vector<Stroke> order_strokes(std::vector<Stroke> strokes, Vec2 pos, const P
   return out;
 }
 
-}  // namespace
-
-Plan plan_drawing(const Drawing& d, const PlanOptions& opt) { return plan_drawing(d, opt, nullptr); }
-
-Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info) {
+// `owned`: the same drawing as `d`, the caller's to give up (its primitives are cleared
+// as the strokes take them), or null.
+Plan plan_layers(const Drawing& d, const PlanOptions& opt, PlanInfo* info, Drawing* owned) {
   const auto t0 = std::chrono::steady_clock::now();
   PlanInfo local;
   opt.validate();
@@ -218,13 +216,19 @@ Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info) {
         add_layer_strokes(*layer, opt, pass, strokes);
         nodes += passes.size() == 1 ? node_count(*layer) : 0;
       }
+      if (owned && passes.size() == 1)
+        for (const Layer* layer : group.layers) {
+          Layer& l = owned->layers[static_cast<size_t>(layer - d.layers.data())];
+          l.dots = {}, l.lines = {}, l.circles = {}, l.areas = {};
+        }
       if (passes.size() > 1) nodes = strokes.size();
       const double share = total_nodes == 0 ? 0 : static_cast<double>(nodes) / total_nodes;
       std::vector<Stroke> ordered = order_strokes(std::move(strokes), pos, opt, total_nodes, share, local);
       if (opt.reloop) plan::reloop_strokes(ordered, pos);
       if (!ordered.empty()) pos = ordered.back().pts.back();
-      out.strokes.insert(out.strokes.end(), std::make_move_iterator(ordered.begin()),
-                         std::make_move_iterator(ordered.end()));
+      if (out.strokes.empty()) out.strokes = std::move(ordered);  // no second array of a million strokes
+      else out.strokes.insert(out.strokes.end(), std::make_move_iterator(ordered.begin()),
+                              std::make_move_iterator(ordered.end()));
     }
     plan.layers.push_back(std::move(out));
   }
@@ -232,6 +236,14 @@ Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info) {
   if (info) *info = local;
   return plan;
 }
+
+}  // namespace
+
+Plan plan_drawing(const Drawing& d, const PlanOptions& opt) { return plan_layers(d, opt, nullptr, nullptr); }
+
+Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info) { return plan_layers(d, opt, info, nullptr); }
+
+Plan plan_drawing(Drawing&& d, const PlanOptions& opt, PlanInfo* info) { return plan_layers(d, opt, info, &d); }
 
 double pen_up_travel(const Plan& plan, Vec2 pos) {
   double s = 0;

@@ -62,6 +62,9 @@ struct PlanInfo {
   long improving_moves = 0;  // 2-opt + Or-opt moves applied
 };
 Plan plan_drawing(const Drawing& d, const PlanOptions& opt, PlanInfo* info);
+// The same plan from a drawing given up: each layer's primitives are freed once they are
+// strokes, before the tour (a 1M-dot drawing: 24 MB less at the planner's peak).
+Plan plan_drawing(Drawing&& d, const PlanOptions& opt, PlanInfo* info = nullptr);
 
 // Pen-up length of a plan: from `start` to each stroke's first point from the previous
 // stroke's last, across layers (what the planner keeps small). O(strokes).

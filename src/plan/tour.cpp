@@ -20,9 +20,9 @@ using tour::Clock;
 double seconds_between(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
 // Nodes renumbered in the kd-tree's leaf order, which keeps near points near in memory
-// (the improver's reads follow space). rank[old] = new, id[new] = old.
+// (the improver's reads follow space). id[new] = old.
 struct SpatialOrder {
-  std::vector<uint32_t> id, rank;
+  std::vector<uint32_t> id;
   std::vector<Vec2> pts;
   std::vector<int32_t> partner;
 };
@@ -32,17 +32,17 @@ SpatialOrder spatial_order(const std::vector<Vec2>& pts, const std::vector<int32
   const spatial::PlaneTree tree = spatial::plane_tree(pts);
   SpatialOrder s;
   s.id.resize(n);
-  s.rank.resize(n);
+  std::vector<uint32_t> rank(n);  // rank[old] = new
   s.pts.resize(n);
   s.partner.resize(n);
   for (uint32_t k = 0; k < n; ++k) {
     s.id[k] = tree.id(k);
-    s.rank[s.id[k]] = k;
+    rank[s.id[k]] = k;
     s.pts[k] = pts[s.id[k]];
   }
   for (uint32_t k = 0; k < n; ++k) {
     const int32_t p = partner[s.id[k]];
-    s.partner[k] = p < 0 ? -1 : static_cast<int32_t>(s.rank[static_cast<uint32_t>(p)]);
+    s.partner[k] = p < 0 ? -1 : static_cast<int32_t>(rank[static_cast<uint32_t>(p)]);
   }
   return s;
 }
@@ -123,8 +123,9 @@ struct Half {
 // of its first end), plans the half the start lies in from the start and the other from
 // the start's nearest point on the split line, both at once, and joins them: one pen-up
 // jump more than a whole path has, at most the sheet's size. O(n log n) and the halves.
+// `release`: `pts` itself when the caller gave it up (freed once the halves are made).
 std::vector<uint32_t> plan_split(const std::vector<Vec2>& pts, const std::vector<int32_t>& partner, Vec2 start,
-                                 const TourOptions& opt, TourStats* stats) {
+                                 const TourOptions& opt, TourStats* stats, std::vector<Vec2>* release) {
   const uint32_t n = static_cast<uint32_t>(pts.size());
   std::vector<uint32_t> units;  // a lone node, or a stroke's first end
   units.reserve(n);
@@ -158,6 +159,7 @@ std::vector<uint32_t> plan_split(const std::vector<Vec2>& pts, const std::vector
     }
   }
   std::vector<uint32_t>().swap(units);  // a million-node path's memory is its budget
+  if (release) std::vector<Vec2>().swap(*release);  // the halves hold their copies (pts is *release)
   const Vec2 on_cut = along_x ? Vec2{cut, std::clamp(start.y, lo.y, hi.y)} : Vec2{std::clamp(start.x, lo.x, hi.x), cut};
   const Vec2 from[2] = {start, on_cut};
   std::vector<uint32_t> order[2];
@@ -181,13 +183,12 @@ std::vector<uint32_t> plan_split(const std::vector<Vec2>& pts, const std::vector
       order[k] = finish(std::move(built[k]), from[k], o[k], &st[k]);
     }
   } else {
-    // The halves are built one after the other (each builds its candidates on every
-    // core; two at once would hold both builds' sort buffers), then improved at once.
-    for (int k = 0; k < 2; ++k) build_half(k);
+    // Each half built and improved on a thread of its own.
     std::exception_ptr failed[2];
 #pragma omp parallel for num_threads(2) schedule(static, 1)
     for (int k = 0; k < 2; ++k) {
       try {
+        build_half(k);
         order[k] = finish(std::move(built[k]), from[k], o[k], &st[k]);
       } catch (...) {
         failed[k] = std::current_exception();  // an exception must not leave an OpenMP region
@@ -222,7 +223,14 @@ std::vector<uint32_t> plan_split(const std::vector<Vec2>& pts, const std::vector
 std::vector<uint32_t> plan_tour(const std::vector<Vec2>& pts, const std::vector<int32_t>& partner, Vec2 start,
                                 const TourOptions& opt, TourStats* stats) {
   if (pts.size() > kSplitNodes && opt.improve && opt.start == TourStart::GreedyEdge)
-    return plan_split(pts, partner, start, opt, stats);
+    return plan_split(pts, partner, start, opt, stats, nullptr);
+  return finish(build(pts, partner, start, opt), start, opt, stats);
+}
+
+std::vector<uint32_t> plan_tour(std::vector<Vec2>&& pts, const std::vector<int32_t>& partner, Vec2 start,
+                                const TourOptions& opt, TourStats* stats) {
+  if (pts.size() > kSplitNodes && opt.improve && opt.start == TourStart::GreedyEdge)
+    return plan_split(pts, partner, start, opt, stats, &pts);
   return finish(build(pts, partner, start, opt), start, opt, stats);
 }
 

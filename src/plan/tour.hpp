@@ -45,6 +45,10 @@ struct TourStats {
 // the local search it triggers, whose reversals are capped) and undone unless it helps.
 std::vector<uint32_t> plan_tour(const std::vector<Vec2>& pts, const std::vector<int32_t>& partner, Vec2 start,
                                 const TourOptions& opt, TourStats* stats = nullptr);
+// The same path from points given up: a path split in halves frees them once the halves
+// hold their copies (1M nodes: 16 MB less while both halves are built).
+std::vector<uint32_t> plan_tour(std::vector<Vec2>&& pts, const std::vector<int32_t>& partner, Vec2 start,
+                                const TourOptions& opt, TourStats* stats = nullptr);
 
 // Pen-up length of visiting `order` from `start` (partners' joining edges excluded).
 double tour_travel(const std::vector<Vec2>& pts, const std::vector<int32_t>& partner, Vec2 start,

@@ -1,7 +1,6 @@
 #include "serve/draft_worker.hpp"
 
 #include <fcntl.h>
-#include <malloc.h>
 #include <poll.h>
 #include <signal.h>
 #include <sys/socket.h>
@@ -156,8 +155,7 @@ bool watch(int sock, pid_t child, uint64_t id, int& status) {
 }  // namespace
 
 int serve_drafts(int sock, const std::function<int(int, char**)>& run) {
-  mallopt(M_MMAP_THRESHOLD, 1 << 30);
-  mallopt(M_TOP_PAD, 64 << 20);
+  // The heap as main() sets it up: large blocks kept for the next draft, grown 64 MB at a time.
   for (;;) {
     Message m = receive_message(sock);
     if (m.closed) return 0;

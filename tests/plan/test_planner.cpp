@@ -206,6 +206,16 @@ TEST_CASE("plan_drawing keeps layers, pens and every segment", "[plan]") {
     const size_t odd = odd_vertices(d.layers[k].lines);
     CHECK(p.layers[k].strokes.size() == odd / 2 + 2);  // tree strokes + the dot + the circle
   }
+  // A drawing given up plans the same, its primitives freed, its pens kept.
+  Drawing given = d;
+  const Plan q = plan_drawing(std::move(given), opt);
+  REQUIRE(q.layers.size() == p.layers.size());
+  for (size_t k = 0; k < p.layers.size(); ++k) {
+    REQUIRE(q.layers[k].strokes.size() == p.layers[k].strokes.size());
+    for (size_t i = 0; i < p.layers[k].strokes.size(); ++i) CHECK(q.layers[k].strokes[i].pts == p.layers[k].strokes[i].pts);
+    CHECK(given.layers[k].primitive_count() == 0);
+    CHECK(given.layers[k].pen.name == d.layers[k].pen.name);
+  }
 }
 
 namespace {
@@ -280,6 +290,12 @@ TEST_CASE("plan stats: lengths, lifts and time", "[plan][stats]") {
   CHECK(st.total.pen_up_mm == Approx(10 + std::hypot(6, 18)));
   CHECK(st.total.seconds > st.layers[0].seconds);
   CHECK(st.layers[0].seconds > 2 * (m.pen_lift_s + m.pen_drop_s));
+  // The lengths alone (for a job whose lines are timed): the same, with no seconds.
+  const PlanStats lengths = plan_lengths(p, {0, 0}, true);
+  CHECK(lengths.total.pen_up_mm == st.total.pen_up_mm);
+  CHECK(lengths.layers[0].pen_down_mm == st.layers[0].pen_down_mm);
+  CHECK(lengths.total.pen_lifts == st.total.pen_lifts);
+  CHECK(lengths.total.seconds == 0);
   const auto j = to_json(st);
   CHECK(j["total"]["pen_lifts"].get<size_t>() == 2);
   CHECK(j["layers"][0]["pen"] == "black");

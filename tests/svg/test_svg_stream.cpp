@@ -20,10 +20,12 @@ namespace fs = std::filesystem;
 namespace {
 
 // The drawing with every coordinate at full precision, or the error it raised;
-// `streamed` says whether the stream read it to the end.
-std::string outcome(const std::string& text, bool stream, bool* streamed = nullptr) {
+// `streamed` says whether the stream read it to the end; `apart`: expat on a thread of its
+// own whatever the size and thread count (the stream's two-thread form).
+std::string outcome(const std::string& text, bool stream, bool* streamed = nullptr, bool apart = false) {
   SvgReadOptions o;
   o.stream = stream;
+  o.tokenize_apart_from_bytes = apart ? 0 : SIZE_MAX;
   try {
     SvgReadReport report;
     const Drawing d = parse_svg(text, "in.svg", o, &report);
@@ -73,6 +75,7 @@ TEST_CASE("the streaming SVG reader draws what the tree walk draws, on every SVG
     const std::string text = slurp(f);
     const std::string streamed = outcome(text, true);
     CHECK(streamed == outcome(text, false));
+    CHECK(streamed == outcome(text, true, nullptr, true));
     if (streamed.rfind("error: ", 0) != 0) ++drawn;
   }
   CHECK(drawn >= files.size() - 2);  // a comparison of errors alone would prove little
@@ -122,6 +125,9 @@ TEST_CASE("the streaming SVG reader matches the tree walk where it must hold ele
     const std::string out = outcome(svg, true, &streamed);
     CHECK(out == outcome(svg, false));
     CHECK(streamed == streams);
+    bool streamed_apart = false;
+    CHECK(out == outcome(svg, true, &streamed_apart, true));
+    CHECK(streamed_apart == streams);
   }
   // The root itself hidden, or not an SVG at all.
   CHECK(outcome(R"(<svg xmlns="http://www.w3.org/2000/svg" style="display:none"><path d="M0 0 L1 1" stroke="black"/></svg>)", true) ==
@@ -131,6 +137,7 @@ TEST_CASE("the streaming SVG reader matches the tree walk where it must hold ele
   // An error names the element's line in both.
   const std::string bad = page("\n<g>\n<path d=\"M0 0\" stroke=\"black\"/>\n<circle cx=\"abc\" r=\"1\"/>\n</g>");
   CHECK(outcome(bad, true).find("in.svg line 4: <circle>") != std::string::npos);
+  CHECK(outcome(bad, true, nullptr, true).find("in.svg line 4: <circle>") != std::string::npos);
 }
 
 TEST_CASE("reading an SVG file streams it: a file on disk reads as its text does", "[svg][stream]") {
@@ -139,4 +146,36 @@ TEST_CASE("reading an SVG file streams it: a file on disk reads as its text does
   so.decimals = 12;
   CHECK(svg_string(read_svg(f.string()), so) == svg_string(parse_svg(slurp(f), f.string()), so));
   CHECK_THROWS_WITH(read_svg("/nonexistent/x.svg"), Catch::Contains("cannot read /nonexistent/x.svg"));
+  SvgReadOptions apart;
+  apart.tokenize_apart_from_bytes = 0;
+  CHECK(svg_string(read_svg(f.string(), apart), so) == svg_string(parse_svg(slurp(f), f.string()), so));
+  CHECK_THROWS_WITH(read_svg("/nonexistent/x.svg", apart), Catch::Contains("cannot read /nonexistent/x.svg"));
+}
+
+TEST_CASE("expat on a thread of its own: many batches of events, and an error early in a long file", "[svg][stream]") {
+  // 60,000 shapes in groups, comments and text between them: a few dozen batches, more
+  // than the queue holds, replayed in order.
+  std::string body;
+  for (int i = 0; i < 60000; ++i) {
+    if (i % 1000 == 0) body += "<g stroke=\"#" + std::string(i % 2000 ? "ff0000" : "0000ff") + "\"><!-- group -->";
+    body += "<circle cx=\"" + std::to_string(i % 97) + "." + std::to_string(i % 10) + "\" cy=\"" + std::to_string(i % 89) +
+            "\" r=\"0.15\" fill=\"#000\" stroke=\"none\"/>\n";
+    if (i % 7 == 0) body += "<path d=\"M" + std::to_string(i % 50) + " 1 L 3 4.5\" fill=\"none\"/>";
+    if (i % 1000 == 999) body += "</g>";
+  }
+  const std::string svg = page(body + "<text x=\"5\" y=\"5\" font-size=\"4\">a <tspan>b</tspan> c</text>");
+  bool streamed = false;
+  const std::string here = outcome(svg, true, &streamed);
+  CHECK(streamed);
+  CHECK(here.find("dots 60000") != std::string::npos);
+  CHECK(outcome(svg, true, nullptr, true) == here);
+  // A bad number near the start of a long file: the drawing stops there (the tokenising
+  // thread is told to stop while it waits on a full queue), the same error as read here.
+  const std::string bad = page("<circle cx=\"x1\" r=\"1\"/>" + body);
+  const std::string error = outcome(bad, true, nullptr, true);
+  CHECK(error.rfind("error: in.svg line 1: <circle>", 0) == 0);
+  CHECK(error == outcome(bad, true));
+  // Malformed XML far into the file: the tree reader takes over and says where.
+  const std::string broken = page(body + "<g></svg>");
+  CHECK(outcome(broken, true, nullptr, true) == outcome(broken, false));
 }
