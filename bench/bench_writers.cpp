@@ -9,6 +9,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -157,8 +158,9 @@ void BM_SvgRead(benchmark::State& st) {
 BENCHMARK(BM_SvgRead)->Unit(benchmark::kMillisecond);
 
 // 200,000 dots as stipplot writes them, in one Inkscape layer: the streaming reader
-// (arg 1, the default) against reading through tinyxml2's tree of the whole file (arg 0,
-// the baseline). Same drawing either way (tests/svg); the memory figure is the README's
+// (arg 1) against reading through tinyxml2's tree of the whole file (arg 0, the
+// baseline), and the stream with expat on a thread of its own (arg 2, the default for a
+// file of 4 MB or more on two threads) against the stream on one (arg 1). Same drawing either way (tests/svg); the memory figure is the README's
 // 1M-dot export under /usr/bin/time -v.
 const std::string& dots_svg() {
   static std::string svg = [] {
@@ -182,7 +184,8 @@ const std::string& dots_svg() {
 void BM_SvgReadDots(benchmark::State& st) {
   const std::string& svg = dots_svg();
   SvgReadOptions ro;
-  ro.stream = st.range(0) == 1;
+  ro.stream = st.range(0) >= 1;
+  ro.tokenize_apart_from_bytes = st.range(0) == 2 ? 0 : SIZE_MAX;
   size_t dots = 0;
   for (auto _ : st) {
     Drawing d = parse_svg(svg, "dots.svg", ro);
@@ -193,8 +196,9 @@ void BM_SvgReadDots(benchmark::State& st) {
   st.counters["dots"] = static_cast<double>(dots);
   st.SetBytesProcessed(static_cast<int64_t>(st.iterations() * svg.size()));
 }
-BENCHMARK(BM_SvgReadDots)->ArgName("stream")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SvgReadDots)->ArgName("stream")->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 
-STIPPLOT_BENCH_MAIN({{"BM_SvgReadDots/stream:1", "BM_SvgReadDots/stream:0"}});
+STIPPLOT_BENCH_MAIN({{"BM_SvgReadDots/stream:1", "BM_SvgReadDots/stream:0"},
+                     {"BM_SvgReadDots/stream:2", "BM_SvgReadDots/stream:1"}});

@@ -13,6 +13,7 @@
 #include "util/error.hpp"
 #include "util/keep_until_exit.hpp"
 #include "util/output_paths.hpp"
+#include "util/threads.hpp"
 #include "util/units.hpp"
 
 namespace stipplot::cli {
@@ -26,6 +27,7 @@ struct ExportArgs {
   std::string tolerance = "0.05";
   std::string pen_width = "0.3";
   bool show_travel = false;
+  int threads = 0;  // 0: one per core (util/threads.hpp)
   PenHeightArgs heights;
   ReportArgs report;
 };
@@ -58,6 +60,10 @@ void register_export(CLI::App& app) {
   cmd->add_flag("--show-travel", args->show_travel, "Planned SVG: add the pen-up travel as a hidden layer")->group("Output");
   cmd->add_option("--preview", args->preview, "Also write a pen-true preview PNG of the plan: what the pens will draw on the sheet")->group("Output");
   add_report_options(cmd, args->report);
+  cmd->add_option("--threads", args->threads,
+                  "Threads for the parallel parts: the SVG's tokenising beside its drawing, the plan's two halves of a "
+                  "large drawing (0: one per core, or OMP_NUM_THREADS if set); the output is the same for any count")
+      ->capture_default_str()->group("Output");
   cmd->add_option("--tolerance", args->tolerance, "Curve flattening tolerance: mm (0.05, 0.05mm), cm, in, pt or px (1/96 in)")->capture_default_str()->group("Input");
   cmd->add_option("--pen-width", args->pen_width, "Pen width where the SVG gives no stroke width: mm (0.3, 0.3mm), cm, in, pt or px (1/96 in)")
       ->capture_default_str()->group("Input");
@@ -68,6 +74,7 @@ void register_export(CLI::App& app) {
   cmd->callback([args] {
     auto t0 = std::chrono::steady_clock::now();
     ExportArgs& a = *args;
+    set_thread_count(a.threads);
     const double tolerance_mm = parse_paper_mm(a.tolerance, "--tolerance");
     const double pen_width_mm = parse_paper_mm(a.pen_width, "--pen-width");
     require_range("--tolerance (mm)", tolerance_mm, 1e-4, 10);

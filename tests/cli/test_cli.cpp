@@ -1,6 +1,8 @@
 // The CLI end to end: every variant runs, --json is one line, bad input is one line and
 // a non-zero exit with no output file left behind.
 #include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "test_util.hpp"
@@ -56,6 +58,27 @@ TEST_CASE("stipple with 1 and 2 threads (--threads) writes the same drawing bit 
   r = test::run_cli(base + t.file("bad.svg") + " --threads 100000");  // more than any machine: refused, not a crash
   CHECK(r.exit_code == 1);
   CHECK(r.err.find("--threads") != std::string::npos);
+}
+
+TEST_CASE("export with 1 and 2 threads writes the same G-code: a 5 MB SVG of 300,000 dots, tokenised apart, planned in halves", "[cli][threads]") {
+  test::TempDir t;
+  {
+    std::ofstream svg(t.file("dots.svg"));
+    svg << R"(<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="200mm" viewBox="0 0 200 200"><g fill="#000">)" << "\n";
+    uint64_t x = 88172645463325252ull;  // xorshift: the same file each run
+    auto next = [&] { return x ^= x << 13, x ^= x >> 7, x ^= x << 17; };
+    for (int i = 0; i < 300'000; ++i)
+      svg << "<circle cx=\"" << (next() % 200000) / 1000.0 << "\" cy=\"" << (next() % 200000) / 1000.0 << "\" r=\"0.15\"/>\n";
+    svg << "</g></svg>\n";
+  }
+  REQUIRE(std::filesystem::file_size(t.file("dots.svg")) > (size_t{4} << 20));  // over the size read on two threads
+  const std::string base = "export " + t.file("dots.svg") + " -q -o ";
+  REQUIRE(test::run_cli(base + t.file("one.gcode") + " --threads 1").exit_code == 0);
+  REQUIRE(test::run_cli(base + t.file("two.gcode") + " --threads 2").exit_code == 0);
+  const std::string one = test::read_file(t.file("one.gcode"));
+  CHECK(one.size() > 300'000 * 20);
+  CHECK(one == test::read_file(t.file("two.gcode")));
+  CHECK(test::run_cli(base + t.file("bad.gcode") + " --threads -1").exit_code == 1);
 }
 
 TEST_CASE("bad input: one error line, non-zero exit, no output file", "[cli][bad-input]") {
