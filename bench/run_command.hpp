@@ -12,11 +12,14 @@
 #include <string>
 #include <vector>
 
+#include "cli/command_line.hpp"
 #include "cli/commands.hpp"
 
 namespace bench_cli {
 
 inline std::string run_command(const std::vector<std::string>& args, const std::string& tag) {
+  static const bool heap = (stipplot::cli::set_up_heap(), true);  // as main() runs a command
+  (void)heap;
   CLI::App app{"stipplot"};
   app.require_subcommand(1);
   stipplot::cli::register_all(app);

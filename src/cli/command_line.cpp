@@ -1,5 +1,7 @@
 #include "cli/command_line.hpp"
 
+#include <malloc.h>
+
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -21,6 +23,21 @@ std::string one_line(std::string s) {
   return s;
 }
 }  // namespace
+
+void set_up_heap() {
+  // One malloc arena: a helper thread (the job timer beside a writer) would otherwise grow
+  // an arena of its own instead of reusing what the main thread freed (a 1M-dot export
+  // peaked at 339 MB instead of 286 MB). Our threads allocate little while they run.
+  mallopt(M_ARENA_MAX, 1);
+  // Large blocks from the heap, and kept there when freed: a command allocates and frees
+  // buffers of megabytes in turn (a plan's candidate lists and sort keys, a photo's
+  // planes), and each fresh mmap is paid again page by page on first touch (~10 µs a
+  // fault on a virtual machine). The heap grows 64 MB at a time (untouched: not resident).
+  // The 1M-dot export: 0.5 s less system time, the peak no higher; a 12-MP stipple 0.5 s less.
+  mallopt(M_MMAP_THRESHOLD, 1 << 30);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+  mallopt(M_TOP_PAD, 64 << 20);
+}
 
 int run_command_line(int argc, char** argv) {
   CLI::App app{"stipplot: turn photographs into drawings for pen plotters, and drive the plotters"};

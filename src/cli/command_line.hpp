@@ -7,4 +7,9 @@ namespace stipplot::cli {
 // argv[0] is the program's name. Returns the exit code: 0, 1 (a user's error), 70 (a bug).
 int run_command_line(int argc, char** argv);
 
+// The malloc settings the program runs with (main() sets them first): one arena, and
+// large blocks from the heap, kept there when freed. A benchmark that runs commands in
+// its own process sets them too, or it times another allocator's page faults.
+void set_up_heap();
+
 }  // namespace stipplot::cli
