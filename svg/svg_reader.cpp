@@ -5,23 +5,23 @@
 
 #include <algorithm>
 #include <array>
-#include <condition_variable>
-#include <deque>
-#include <filesystem>
-#include <mutex>
-#include <thread>
 #include <cctype>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
-#include <cstring>
-#include <exception>
-#include <memory>
-#include <string_view>
-#include <unordered_set>
 #include <cstdio>
+#include <cstring>
+#include <deque>
+#include <exception>
+#include <filesystem>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <optional>
+#include <string_view>
+#include <thread>
+#include <unordered_set>
 #include <vector>
 
 #include "geometry/affine.hpp"
