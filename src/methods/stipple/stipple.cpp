@@ -490,28 +490,58 @@ void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
         }
       }
     }
-    // Each dot's centroid, in one pass over the cells in row order: a dot's cells come in
-    // the order a walk over its own window would take them, so its sums are the same bit
-    // for bit, and each cell is read once instead of once for every dot whose window holds
-    // it (about nine). Serial: split by rows, a dot's sums would be added in another order.
-    // A run of one dot's cells along a row is summed in registers, then stored.
+    // Each dot's centroid: its cells summed in row order, the order a walk over its own
+    // window takes them, so its sums are the same bit for bit however the work is split.
+    // Bands of rows in parallel, each summing in one pass over its cells (each cell read
+    // once) the dots whose windows lie inside it; then the dots whose windows cross a
+    // band's edge (a few in ten), each over its own window. A run of one dot's cells along
+    // a row is summed in registers, then stored.
     std::fill(sums.begin(), sums.end(), Sum{});
-    for (int y = 0; y < h; ++y) {
-      const size_t row = static_cast<size_t>(y) * static_cast<size_t>(w);
-      uint32_t run = std::numeric_limits<uint32_t>::max();
-      Sum s;
-      for (int x = 0; x < w; ++x) {
-        const size_t i = row + static_cast<size_t>(x);
-        if (!std::isfinite(best[i])) continue;  // no dot reached it (owner is stale)
-        if (owner[i] != run) {
-          if (run != std::numeric_limits<uint32_t>::max()) sums[run] = s;
-          run = owner[i];
-          s = sums[run];
+    constexpr int kSumRows = 64;
+    auto band_of = [&](uint32_t k) {  // the band holding k's whole window, or -1
+      const Window& wk = win[k];
+      return wk.y0 <= wk.y1 && wk.y0 / kSumRows == wk.y1 / kSumRows ? wk.y0 / kSumRows : -1;
+    };
+    constexpr uint32_t kNoRun = std::numeric_limits<uint32_t>::max();
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int b = 0; b < (h + kSumRows - 1) / kSumRows; ++b) {
+      for (int y = b * kSumRows; y < std::min(h, (b + 1) * kSumRows); ++y) {
+        const size_t row = static_cast<size_t>(y) * static_cast<size_t>(w);
+        uint32_t run = kNoRun;
+        bool mine = false;  // the run's dot lies inside this band
+        Sum s;
+        for (int x = 0; x < w; ++x) {
+          const size_t i = row + static_cast<size_t>(x);
+          if (!std::isfinite(best[i])) continue;  // no dot reached it (owner is stale)
+          if (owner[i] != run) {
+            if (mine) sums[run] = s;
+            run = owner[i];
+            mine = band_of(run) == b;
+            if (mine) s = sums[run];
+          }
+          if (!mine) continue;
+          const double wt = weight[plane[i]];
+          s.x += wt * (x + 0.5), s.y += wt * (y + 0.5), s.w += wt;
         }
-        const double wt = weight[plane[i]];
-        s.x += wt * (x + 0.5), s.y += wt * (y + 0.5), s.w += wt;
+        if (mine) sums[run] = s;
       }
-      if (run != std::numeric_limits<uint32_t>::max()) sums[run] = s;
+    }
+    std::vector<uint32_t> crossing;
+    for (uint32_t k = 0; k < pts.size(); ++k)
+      if (win[k].y0 <= win[k].y1 && band_of(k) < 0) crossing.push_back(k);
+#pragma omp parallel for schedule(dynamic, 64)
+    for (size_t j = 0; j < crossing.size(); ++j) {
+      const uint32_t k = crossing[j];
+      const Window& wk = win[k];
+      Sum s;
+      for (int y = wk.y0; y <= wk.y1; ++y)
+        for (int x = wk.x0; x <= wk.x1; ++x) {
+          const size_t i = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
+          if (!std::isfinite(best[i]) || owner[i] != k) continue;
+          const double wt = weight[plane[i]];
+          s.x += wt * (x + 0.5), s.y += wt * (y + 0.5), s.w += wt;
+        }
+      sums[k] = s;
     }
     for (size_t k = 0; k < pts.size(); ++k)
       if (sums[k].w > 0) pts[k] = {sums[k].x / sums[k].w, sums[k].y / sums[k].w};
