@@ -1,7 +1,6 @@
 #include "drivers/job/gcode_reader.hpp"
 
 #include <cctype>
-#include <cstdint>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -75,8 +74,6 @@ struct ToolState {
 };
 
 }  // namespace
-
-std::string gcode_line_text(const std::string& raw) { return clean_gcode_line(raw); }
 
 std::string_view gcode_line_view(std::string_view raw, std::string& scratch) {
   if (raw.find_first_of("(;\r") != std::string_view::npos) {

@@ -21,11 +21,9 @@ bool gcode_pen_down(bool spindle_on, double s, double z, const GcodePenRule& rul
 
 // O(text length).
 Job parse_gcode_job(const std::string& text, const GcodePenRule& rule = {});
-// A raw line as the job keeps it: ( ) and ';' comments, '\r' and outer blanks dropped
-// ("" for a comment or blank line).
-std::string gcode_line_text(const std::string& raw);
-// The same as a view: into `raw` itself when it has no comment or '\r' (a writer's lines),
-// else into `scratch`. No allocation for a plain line. O(line length).
+// A raw line as the job keeps it, as a view: ( ) and ';' comments, '\r' and outer blanks
+// dropped ("" for a comment or blank line); into `raw` itself when it has no comment or
+// '\r' (a writer's lines), else into `scratch`. No allocation for a plain line. O(length).
 std::string_view gcode_line_view(std::string_view raw, std::string& scratch);
 
 // A letter and its number ("X12.5"); '$' system commands and '%' tape marks have none.
