@@ -142,8 +142,7 @@ class Streamer::JobRun {
       finishing_ = true;
       next_poll_ = now;  // ask at once whether grbl is done
     }
-    const std::string& state = s_.last_status_.state;
-    return (state == "Idle" && idle_polls_ > 0) || state == "Check";
+    return idle_after_everything_ || s_.last_status_.state == "Check";
   }
 
   Control apply_controls() {
@@ -180,6 +179,9 @@ class Streamer::JobRun {
   void poll_if_due(clock::time_point now) {
     if (now < next_poll_) return;
     s_.t_.write("?");
+    // grbl answers the '?'s in order: each report says what it held once the lines sent
+    // before its '?' had arrived, and nothing of the ones sent after (still on the wire).
+    if (asked_after_.size() < 1024) asked_after_.push_back(next_);  // lost reports only age the rest: safe
     next_poll_ = now + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(1.0 / o_.poll_hz));
   }
 
@@ -337,6 +339,12 @@ class Streamer::JobRun {
   void on_status(const std::string& line) {
     Status st;
     if (!parse_status(line, st)) return;
+    // The items sent before this report's '?' (0 for a report nobody here asked for).
+    size_t sent_when_asked = 0;
+    if (!asked_after_.empty()) {
+      sent_when_asked = asked_after_.front();
+      asked_after_.pop_front();
+    }
     const Status& was = s_.last_status_;
     if (st.state != was.state || st.x != was.x || st.y != was.y || st.z != was.z || st.blocks_free != was.blocks_free ||
         st.bytes_free != was.bytes_free)
@@ -349,7 +357,10 @@ class Streamer::JobRun {
       throw DeviceError("grbl entered ALARM state during the job (see the machine); resume after unlocking", -1, 0, true);
     }
     if (st.state.rfind("Hold", 0) == 0 && !paused_ && !window_.empty()) release_program_pause();
-    count_lost_replies(st);
+    const bool empty = st.state == "Idle" && (st.blocks_free < 0 || st.blocks_free == o_.planner_blocks) &&
+                       (st.bytes_free < 0 || st.bytes_free == o_.rx_buffer);
+    if (empty && sent_when_asked >= session_.items()) idle_after_everything_ = true;
+    count_lost_replies(empty, sent_when_asked);
   }
 
   // A hold that is not ours, with a pause of the job (M0) as the oldest line unanswered:
@@ -387,21 +398,27 @@ class Streamer::JobRun {
                     (answer == PauseAnswer::stop_after ? ", counted as done: do it before resuming" : ""));
   }
 
-  // Lost replies: grbl idle, its buffers empty, yet lines unanswered.
-  void count_lost_replies(const Status& st) {
-    const bool empty = st.state == "Idle" && (st.blocks_free < 0 || st.blocks_free == o_.planner_blocks) &&
-                       (st.bytes_free < 0 || st.bytes_free == o_.rx_buffer);
-    if (!empty) {
+  // Lost replies: grbl idle with its buffers empty, several reports running, yet lines
+  // unanswered that were sent before those reports were asked for (their answers would
+  // have come first). Lines sent after a '?' may still be on the wire, where grbl cannot
+  // see them: counting those answered would let the host overfill grbl's buffer.
+  void count_lost_replies(bool empty, size_t sent_when_asked) {
+    const bool covers = !window_.empty() && window_.oldest().item < sent_when_asked;
+    if (!empty || !covers) {
       idle_polls_ = 0;
       return;
     }
     if (idle_polls_++ == 0) idle_first_ = clock::now();
-    if (window_.empty() || idle_polls_ < 3 || clock::now() - idle_first_ <= o_.lost_reply_after) return;
+    if (idle_polls_ < 3 || clock::now() - idle_first_ <= o_.lost_reply_after) return;
+    size_t lost = 0;
+    while (!window_.empty() && window_.oldest().item < sent_when_asked) {
+      acknowledge(window_.answered());
+      ++lost;
+    }
     StreamResult& res = session_.result();
-    res.warnings.push_back("grbl went idle without acknowledging " + std::to_string(window_.size()) +
+    res.warnings.push_back("grbl went idle without acknowledging " + std::to_string(lost) +
                            " line(s): a reply was lost; counting them as done");
     s_.note(res.warnings.back());
-    while (!window_.empty()) acknowledge(window_.answered());
     idle_polls_ = 0;
   }
 
@@ -570,7 +587,9 @@ class Streamer::JobRun {
   ProvenPoint proof_;               // the last proof journalled (a status report, a sync line)
   Snapshot snapshot_{0, session_.result().last_acked, -1};
   clock::time_point last_rx_ = clock::now(), next_poll_ = last_rx_, idle_first_ = last_rx_, last_progress_ = last_rx_;
-  int idle_polls_ = 0;
+  int idle_polls_ = 0;                // idle, empty reports running that cover an unanswered line
+  std::deque<size_t> asked_after_;    // for each '?' unanswered: the items sent before it
+  bool idle_after_everything_ = false;  // idle and empty, asked once every line was sent
   bool paused_ = false, finishing_ = false;
   long m0_released_ = -2;           // the M0 item whose pause was released
 };
