@@ -17,7 +17,6 @@ namespace stipplot {
 namespace {
 
 void write(const Plan& plan, tinyxml2::XMLPrinter& p, const PlannedSvgOptions& opt) {
-  auto num = [&](double v) { return format_number(v, opt.decimals); };
   SvgFrame frame;
   frame.page = plan.page;
   frame.title = "stipplot plan (strokes in plot order)";
@@ -60,13 +59,13 @@ void write(const Plan& plan, tinyxml2::XMLPrinter& p, const PlannedSvgOptions& o
         if (s.pts.empty()) continue;
         if (have) {
           d += d.empty() ? "M " : " M ";
-          d += num(last.x);
+          append_number(d, last.x, opt.decimals);
           d += ',';
-          d += num(last.y);
+          append_number(d, last.y, opt.decimals);
           d += ' ';
-          d += num(s.pts[0].x);
+          append_number(d, s.pts[0].x, opt.decimals);
           d += ',';
-          d += num(s.pts[0].y);
+          append_number(d, s.pts[0].y, opt.decimals);
         }
         last = s.pts.back();
         have = true;

@@ -73,9 +73,9 @@ void push_line(tinyxml2::XMLPrinter& p, const std::vector<Vec2>& pts, LineElemen
     for (size_t i = from; i < to; ++i) {
       if (as == LineElement::path && i == from + 1) scratch += " L";
       if (as == LineElement::path || i > from) scratch += ' ';
-      scratch += format_number(pts[i].x, decimals);
+      append_number(scratch, pts[i].x, decimals);
       scratch += ',';
-      scratch += format_number(pts[i].y, decimals);
+      append_number(scratch, pts[i].y, decimals);
     }
     p.OpenElement(as == LineElement::path ? "path" : "polyline");
     p.PushAttribute(as == LineElement::path ? "d" : "points", scratch.c_str());

@@ -10,20 +10,19 @@
 #include "svg/svg_document.hpp"
 #include "svg/xml_output.hpp"
 #include "util/atomic_file.hpp"
+#include "util/decimal_text.hpp"
 #include "util/error.hpp"
 
 namespace stipplot {
 
-std::string format_number(double v, int decimals) {
-  char buf[64];
+void append_number(std::string& out, double v, int decimals) {
   if (!std::isfinite(v)) throw std::logic_error("non-finite coordinate in drawing");
-  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  std::string s = buf;
-  if (s.find('.') != std::string::npos) {
-    while (s.back() == '0') s.pop_back();
-    if (s.back() == '.') s.pop_back();
-  }
-  if (s == "-0") s = "0";
+  append_decimal(out, v, decimals);
+}
+
+std::string format_number(double v, int decimals) {
+  std::string s;
+  append_number(s, v, decimals);
   return s;
 }
 
@@ -36,9 +35,9 @@ void push_area(tinyxml2::XMLPrinter& p, const Area& a, int decimals) {
     if (ring.pts.size() < 3) continue;
     for (size_t i = 0; i + 1 < ring.pts.size(); ++i) {
       d += i ? " L" : (d.empty() ? "M" : " M");
-      d += format_number(ring.pts[i].x, decimals);
+      append_number(d, ring.pts[i].x, decimals);
       d += ',';
-      d += format_number(ring.pts[i].y, decimals);
+      append_number(d, ring.pts[i].y, decimals);
     }
     d += " Z";
   }

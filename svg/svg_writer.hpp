@@ -20,5 +20,7 @@ std::string svg_string(const Drawing& drawing, const SvgOptions& opt = {});
 
 // Formats v with at most `decimals` digits after the point, trailing zeros trimmed.
 std::string format_number(double v, int decimals);
+// The same, appended to out (no string of its own: the writers print millions).
+void append_number(std::string& out, double v, int decimals);
 
 }  // namespace stipplot

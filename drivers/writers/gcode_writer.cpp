@@ -6,6 +6,7 @@
 #include <string>
 
 #include "drivers/device/machine.hpp"
+#include "util/decimal_text.hpp"
 #include "util/error.hpp"
 
 namespace stipplot {
@@ -19,20 +20,6 @@ int decimals_for(double step) {
     if (std::fabs(scaled - std::round(scaled)) < 1e-6) return d;
   }
   return 6;
-}
-
-// Prints v with at most `decimals` digits, trailing zeros and a lone point trimmed.
-void append_number(std::string& out, double v, int decimals) {
-  char buf[48];
-  // to_chars prints as printf's "%.*f" does, without its format parsing.
-  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, decimals);
-  std::string_view s(buf, static_cast<size_t>(r.ptr - buf));
-  if (s.find('.') != std::string_view::npos) {
-    while (s.back() == '0') s.remove_suffix(1);
-    if (s.back() == '.') s.remove_suffix(1);
-  }
-  if (s == "-0") s = "0";
-  out += s;
 }
 
 class GcodeEmitter {
@@ -51,9 +38,9 @@ class GcodeEmitter {
     if (opt_.comments) {
       comment("stipplot G-code for profile " + p_.name + ": " + p_.description);
       std::string page = "page ";
-      append_number(page, plan_.page.width_mm, 3);
+      append_decimal(page, plan_.page.width_mm, 3);
       page += " x ";
-      append_number(page, plan_.page.height_mm, 3);
+      append_decimal(page, plan_.page.height_mm, 3);
       page += " mm, " + std::to_string(plan_.layers.size()) + " layer(s), " + std::to_string(strokes) + " stroke(s)";
       comment(page);
     }
@@ -110,7 +97,7 @@ class GcodeEmitter {
   // integer steps*k with the point `decimals` digits from the right, zeros trimmed.
   void coordinate(std::string& out, int64_t steps) {
     if (step_units_ <= 0) {
-      append_number(out, static_cast<double>(steps) * t_.step_mm(), decimals_);
+      append_decimal(out, static_cast<double>(steps) * t_.step_mm(), decimals_);
       return;
     }
     int64_t v = steps * step_units_;
@@ -140,7 +127,7 @@ class GcodeEmitter {
     if (f == feed_) return;
     feed_ = f;
     line += " F";
-    append_number(line, f, 1);
+    append_decimal(line, f, 1);
   }
 
   void move_rapid(Steps s) {
@@ -156,14 +143,14 @@ class GcodeEmitter {
   void spindle(const char* m, double s) {
     std::string line = m;
     line += " S";
-    append_number(line, s, 3);
+    append_decimal(line, s, 3);
     emit(line);
   }
 
   void dwell(double seconds) {
     if (seconds <= 0) return;
     std::string line = "G4 P";
-    append_number(line, seconds, 3);
+    append_decimal(line, seconds, 3);
     emit(line);
   }
 
@@ -208,7 +195,7 @@ class GcodeEmitter {
         break;
       case PenMethod::z_axis:
         line = "G1 Z";
-        append_number(line, p_.pen.z_down_mm, 3);
+        append_decimal(line, p_.pen.z_down_mm, 3);
         feed(line, p_.pen.z_feed_mm_s);
         emit(line);
         break;
@@ -232,7 +219,7 @@ class GcodeEmitter {
         break;
       case PenMethod::z_axis:
         line = "G0 Z";
-        append_number(line, p_.pen.z_up_mm, 3);
+        append_decimal(line, p_.pen.z_up_mm, 3);
         emit(line);
         break;
       case PenMethod::laser:
