@@ -5,7 +5,6 @@
 #include <limits>
 
 #include "util/error.hpp"
-#include "util/threads.hpp"
 
 namespace stipplot::motion {
 
@@ -44,80 +43,34 @@ double trapezoid_seconds(double L, double v0, double v1, double vmax, double a, 
   return std::max(0.0, vp - v0) / a + std::max(0.0, vp - v1) / a;
 }
 
-namespace {
-
-// A polyline this long has its per-block work (lengths, junctions, the look-ahead's
-// backward pass) split over the threads: a tree's outline of 400,000 points is a fifth of
-// its command. Every value is computed as one thread computes it, so the time is the same
-// bit for bit on any count; the forward pass, cheap, stays in order.
-constexpr size_t kParallelFromPoints = 1 << 14;
-
-}  // namespace
-
 double polyline_seconds(const std::vector<Vec2>& pts, double vmax, const MotionParams& m,
                         std::vector<MotionBlock>* out, BlockKind kind, uint32_t layer, double t0) {
   struct Seg {
     Vec2 from, to, u;
     double L, a, max_entry_sqr;
   };
-  const size_t np = pts.size();
-  const bool par = np >= kParallelFromPoints && thread_count() > 1;
   std::vector<Seg> segs;
-  segs.reserve(np);
-  if (!par) {
-    for (size_t k = 1; k < np; ++k) {
-      const Vec2 d{pts[k].x - pts[k - 1].x, pts[k].y - pts[k - 1].y};
-      const double L = std::hypot(d.x, d.y);
-      if (!(L > 1e-9)) continue;  // grbl drops zero-length blocks
-      const Vec2 u{d.x / L, d.y / L};
-      Seg s{pts[k - 1], pts[k], u, L, axis_limited_accel(m.accel_mm_s2, u), 0};
-      if (!segs.empty()) s.max_entry_sqr = std::min(vmax * vmax, junction_speed_sqr(segs.back().u, u, m));
-      segs.push_back(s);
-    }
-  } else {
-    // The same values in three passes: each step's length and direction (zero-length
-    // steps marked by L), the steps kept, their junctions.
-    std::vector<Seg> steps(np - 1);
-    const long n_steps = static_cast<long>(steps.size());
-#pragma omp parallel for schedule(static) num_threads(thread_count())
-    for (long k = 0; k < n_steps; ++k) {
-      const Vec2 a = pts[static_cast<size_t>(k)], b = pts[static_cast<size_t>(k) + 1];
-      const Vec2 d{b.x - a.x, b.y - a.y};
-      const double L = std::hypot(d.x, d.y);
-      Seg& s = steps[static_cast<size_t>(k)];
-      s = {a, b, {0, 0}, L, 0, 0};
-      if (!(L > 1e-9)) continue;
-      s.u = {d.x / L, d.y / L};
-      s.a = axis_limited_accel(m.accel_mm_s2, s.u);
-    }
-    for (const Seg& s : steps)
-      if (s.L > 1e-9) segs.push_back(s);
-    const long n_segs = static_cast<long>(segs.size());
-#pragma omp parallel for schedule(static) num_threads(thread_count())
-    for (long i = 1; i < n_segs; ++i) {
-      Seg& s = segs[static_cast<size_t>(i)];
-      s.max_entry_sqr = std::min(vmax * vmax, junction_speed_sqr(segs[static_cast<size_t>(i) - 1].u, s.u, m));
-    }
+  segs.reserve(pts.size());
+  for (size_t k = 1; k < pts.size(); ++k) {
+    const Vec2 d{pts[k].x - pts[k - 1].x, pts[k].y - pts[k - 1].y};
+    const double L = std::hypot(d.x, d.y);
+    if (!(L > 1e-9)) continue;  // grbl drops zero-length blocks
+    const Vec2 u{d.x / L, d.y / L};
+    Seg s{pts[k - 1], pts[k], u, L, axis_limited_accel(m.accel_mm_s2, u), 0};
+    if (!segs.empty()) s.max_entry_sqr = std::min(vmax * vmax, junction_speed_sqr(segs.back().u, u, m));
+    segs.push_back(s);
   }
   const size_t n = segs.size();
   const size_t B = static_cast<size_t>(std::max(1, m.lookahead_blocks));
-  // What the planner knows while block i runs: blocks i .. i+B-1, the last of which must
-  // end at rest. Backward pass from there to block i's exit: the most its exit allows.
-  auto exit_limit_at = [&](size_t i) {
+  double t = 0, v_entry = 0;
+  for (size_t i = 0; i < n; ++i) {
+    // What the planner knows while block i runs: blocks i .. i+B-1, the last of
+    // which must end at rest. Backward pass from there to block i's exit.
     const size_t last = std::min(i + B - 1, n - 1);
     double v_sqr = 0;
     for (size_t j = last; j > i; --j) v_sqr = std::min(segs[j].max_entry_sqr, v_sqr + 2 * segs[j].a * segs[j].L);
-    return v_sqr;
-  };
-  std::vector<double> exit_limit(par ? n : 0);
-  const long n_par = static_cast<long>(exit_limit.size());
-#pragma omp parallel for schedule(static) if (par) num_threads(thread_count())
-  for (long i = 0; i < n_par; ++i) exit_limit[static_cast<size_t>(i)] = exit_limit_at(static_cast<size_t>(i));
-  double t = 0, v_entry = 0;
-  for (size_t i = 0; i < n; ++i) {
     const Seg& s = segs[i];
-    const double limit = par ? exit_limit[i] : exit_limit_at(i);
-    const double exit_sqr = std::min(limit, v_entry * v_entry + 2 * s.a * s.L);  // forward pass
+    const double exit_sqr = std::min(v_sqr, v_entry * v_entry + 2 * s.a * s.L);  // forward pass
     const double v_exit = std::sqrt(exit_sqr);
     double v_peak = 0;
     const double dt = trapezoid_seconds(s.L, v_entry, v_exit, vmax, s.a, &v_peak);

@@ -3,11 +3,7 @@
 #include <cmath>
 
 #include "drivers/motion/time_model.hpp"
-#include <cstring>
-#include <vector>
-
 #include "util/error.hpp"
-#include "util/threads.hpp"
 
 using namespace stipplot;
 using namespace stipplot::motion;
@@ -115,47 +111,4 @@ TEST_CASE("plan timeline: travel, pen events, per-layer sums", "[motion]") {
   MotionParams bad;
   bad.accel_mm_s2 = -1;
   CHECK_THROWS_AS(estimate_seconds(p, bad), UserError);
-}
-
-TEST_CASE("a long polyline's time and blocks are the same bit for bit on 1 and 3 threads", "[motion][threads]") {
-  MotionParams m;
-  m.accel_mm_s2 = 800;
-  // 40,000 points (the parallel passes start at 16,384): a wandering path with repeated
-  // points (dropped blocks), reversals and straight runs.
-  std::vector<Vec2> pts;
-  double x = 10, y = 10, heading = 0;
-  uint64_t state = 12345;
-  auto next = [&] {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) / 9007199254740992.0;
-  };
-  for (int i = 0; i < 40000; ++i) {
-    const double r = next();
-    if (r < 0.05) {
-      pts.push_back({x, y});  // a repeated point
-      continue;
-    }
-    heading += r < 0.1 ? 3.14159 : (next() - 0.5) * 0.8;
-    const double step = 0.02 + next() * 0.5;
-    x += step * std::cos(heading);
-    y += step * std::sin(heading);
-    pts.push_back({x, y});
-  }
-  std::vector<MotionBlock> one_blocks, three_blocks;
-  set_thread_count(1);
-  const double one = polyline_seconds(pts, 40, m, &one_blocks);
-  const double one_plain = polyline_seconds(pts, 40, m);
-  set_thread_count(3);
-  const double three = polyline_seconds(pts, 40, m, &three_blocks);
-  set_thread_count(0);
-  CHECK(one > 0);
-  CHECK(std::memcmp(&one, &three, sizeof one) == 0);
-  CHECK(std::memcmp(&one, &one_plain, sizeof one) == 0);
-  REQUIRE(one_blocks.size() == three_blocks.size());
-  CHECK(one_blocks.size() < pts.size() - 1000);  // the repeated points' blocks dropped
-  size_t differ = 0;
-  for (size_t i = 0; i < one_blocks.size(); ++i)
-    differ += one_blocks[i].start_s != three_blocks[i].start_s || one_blocks[i].duration_s != three_blocks[i].duration_s || one_blocks[i].v_exit != three_blocks[i].v_exit ||
-              one_blocks[i].v_peak != three_blocks[i].v_peak;
-  CHECK(differ == 0);
 }
