@@ -14,6 +14,8 @@
 
 #include "cli/command_line.hpp"
 #include "cli/commands.hpp"
+#include "ratio_reporter.hpp"
+#include "util/executable.hpp"
 
 namespace bench_cli {
 
@@ -41,3 +43,16 @@ inline std::string run_command(const std::vector<std::string>& args, const std::
 }
 
 }  // namespace bench_cli
+
+// A benchmark main() for photo commands: run on transparent huge pages first, as the
+// stipplot main() does for them (cli::works_on_photos), then STIPPLOT_BENCH_MAIN's work.
+#define STIPPLOT_BENCH_MAIN_AS_CLI(...)                                                          \
+  int main(int argc, char** argv) {                                                              \
+    stipplot::rerun_on_huge_pages(argv);                                                         \
+    benchmark::Initialize(&argc, argv);                                                          \
+    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;                            \
+    stipplot::bench::RatioReporter rep(std::vector<std::pair<std::string, std::string>> __VA_ARGS__); \
+    benchmark::RunSpecifiedBenchmarks(&rep);                                                     \
+    benchmark::Shutdown();                                                                       \
+    return 0;                                                                                    \
+  }

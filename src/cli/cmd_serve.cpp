@@ -10,6 +10,7 @@
 #include "serve/option_schema.hpp"
 #include "serve/studio.hpp"
 #include "util/error.hpp"
+#include "util/executable.hpp"
 
 namespace stipplot::cli {
 
@@ -66,7 +67,7 @@ void serve(const ServeArgs& a) {
   // Anyone on the network could move the machine: another bind needs a token.
   if (!local && c.guard.token.empty()) c.guard.token = serve::random_token();
   c.workdir = std::filesystem::current_path();
-  c.executable = serve::self_executable();
+  c.executable = self_executable();
   c.methods = method_schemas();
   c.profiles = profile_list();
   c.max_pixels = a.max_pixels;

@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <cstring>
 #include <new>
 #include <string>
 
@@ -37,6 +38,12 @@ void set_up_heap() {
   mallopt(M_MMAP_THRESHOLD, 1 << 30);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   mallopt(M_TOP_PAD, 64 << 20);
+}
+
+bool works_on_photos(const char* command) {
+  for (const char* c : {"stipple", "tree", "sketch", "pointillism", "hatch", "eval"})
+    if (std::strcmp(command, c) == 0) return true;
+  return false;
 }
 
 int run_command_line(int argc, char** argv) {

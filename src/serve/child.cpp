@@ -12,39 +12,13 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "util/executable.hpp"
+
 extern char** environ;
 
 namespace stipplot::serve {
 
-// The children's environment: the server's, with glibc's malloc putting large blocks on
-// transparent huge pages (glibc.malloc.hugetlb=1) unless GLIBC_TUNABLES already says
-// otherwise. A child's buffers for a 12-MP photo are ~30,000 pages of 4 KB, each a page
-// fault on first touch, and on a virtual machine a fault costs microseconds: the full
-// preview of such a photo took 1.75 s, 0.77 s on huge pages (docs/figures.md).
-std::vector<std::string> child_environment() {
-  std::vector<std::string> env;
-  bool named = false;
-  for (char** e = environ; e && *e; ++e) {
-    std::string v = *e;
-    if (v.rfind("GLIBC_TUNABLES=", 0) == 0) {
-      named = true;
-      if (v.find("glibc.malloc.hugetlb") == std::string::npos)
-        v += std::string(v.back() == '=' ? "" : ":") + "glibc.malloc.hugetlb=1";
-    }
-    env.push_back(std::move(v));
-  }
-  if (!named) env.push_back("GLIBC_TUNABLES=glibc.malloc.hugetlb=1");
-  return env;
-}
-
-std::string self_executable() {
-  char buf[PATH_MAX];
-  const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
-  if (n <= 0) throw std::runtime_error("cannot find the running executable (/proc/self/exe)");
-  return std::string(buf, static_cast<size_t>(n));
-}
-
-ExecArgs::ExecArgs(std::vector<std::string> argv) : args_(std::move(argv)), env_(child_environment()) {
+ExecArgs::ExecArgs(std::vector<std::string> argv) : args_(std::move(argv)), env_(environment_on_huge_pages()) {
   for (auto& a : args_) argv_.push_back(a.data());
   argv_.push_back(nullptr);
   for (auto& e : env_) envp_.push_back(e.data());

@@ -13,9 +13,6 @@
 
 namespace stipplot::serve {
 
-// The path of the running executable (/proc/self/exe).
-std::string self_executable();
-
 struct ChildResult {
   int exit_code = -1;      // -1 when ended by a signal
   bool cancelled = false;  // ended by cancel()
@@ -48,10 +45,6 @@ class Child {
   int in_fd_ = -1, out_fd_ = -1, err_fd_ = -1;
   std::mutex in_mutex_;
 };
-
-// The environment children start with: the server's, with glibc's malloc putting large
-// blocks on transparent huge pages unless GLIBC_TUNABLES already names that tunable.
-std::vector<std::string> child_environment();
 
 // A command line and the children's environment as execve takes them, made before fork:
 // nothing may be allocated between fork and exec in a server with threads.
