@@ -1,5 +1,6 @@
 #include "util/executable.hpp"
 
+#include <sys/auxv.h>
 #include <unistd.h>
 
 #include <climits>
@@ -45,6 +46,7 @@ std::vector<std::string> environment_on_huge_pages() {
 void rerun_on_huge_pages(char** argv) {
   const char* tunables = std::getenv("GLIBC_TUNABLES");
   if (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")) return;  // already, or the user's choice
+  if (::getauxval(AT_SECURE)) return;  // glibc drops GLIBC_TUNABLES there: it would run again and again
   std::string self;
   try {
     self = self_executable();
