@@ -45,14 +45,19 @@ class RatioReporter : public benchmark::ConsoleReporter {
   std::map<std::string, bool> real_;
 };
 
+// What a benchmark's main() does: run them all, then the ratios of the pairs.
+inline int run_benchmarks(int argc, char** argv, std::vector<std::pair<std::string, std::string>> pairs) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  RatioReporter rep(std::move(pairs));
+  benchmark::RunSpecifiedBenchmarks(&rep);
+  benchmark::Shutdown();
+  return 0;
+}
+
 }  // namespace stipplot::bench
 
-#define STIPPLOT_BENCH_MAIN(...)                                              \
-  int main(int argc, char** argv) {                                          \
-    benchmark::Initialize(&argc, argv);                                      \
-    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;        \
-    stipplot::bench::RatioReporter rep(std::vector<std::pair<std::string, std::string>> __VA_ARGS__);                       \
-    benchmark::RunSpecifiedBenchmarks(&rep);                                 \
-    benchmark::Shutdown();                                                   \
-    return 0;                                                                \
+#define STIPPLOT_BENCH_MAIN(...) \
+  int main(int argc, char** argv) { \
+    return stipplot::bench::run_benchmarks(argc, argv, std::vector<std::pair<std::string, std::string>> __VA_ARGS__); \
   }

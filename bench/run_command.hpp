@@ -46,13 +46,8 @@ inline std::string run_command(const std::vector<std::string>& args, const std::
 
 // A benchmark main() for photo commands: run on transparent huge pages first, as the
 // stipplot main() does for them (cli::works_on_photos), then STIPPLOT_BENCH_MAIN's work.
-#define STIPPLOT_BENCH_MAIN_AS_CLI(...)                                                          \
-  int main(int argc, char** argv) {                                                              \
-    stipplot::rerun_on_huge_pages(argv);                                                         \
-    benchmark::Initialize(&argc, argv);                                                          \
-    if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;                            \
-    stipplot::bench::RatioReporter rep(std::vector<std::pair<std::string, std::string>> __VA_ARGS__); \
-    benchmark::RunSpecifiedBenchmarks(&rep);                                                     \
-    benchmark::Shutdown();                                                                       \
-    return 0;                                                                                    \
+#define STIPPLOT_BENCH_MAIN_AS_CLI(...) \
+  int main(int argc, char** argv) { \
+    stipplot::rerun_on_huge_pages(argv); \
+    return stipplot::bench::run_benchmarks(argc, argv, std::vector<std::pair<std::string, std::string>> __VA_ARGS__); \
   }

@@ -38,6 +38,15 @@ Run open_pty(const sim::GrblSimConfig& c) {
   return r;
 }
 
+// Streams job to the simulator over a pty, a lost reply taken after 300 ms of idle reports.
+StreamResult stream_counting_lost_after_300ms(Run& r, const Job& job) {
+  grbl::Options o;
+  o.lost_reply_after = Millis(300);
+  grbl::Streamer st(*r.port, o);
+  st.connect();
+  return st.stream(job, 0, {}, nullptr);
+}
+
 Job small_job(uint64_t seed = 1, int strokes = 25) {
   return parse_gcode_job(testjob::gcode(testjob::random_strokes(seed, strokes, 6)));
 }
@@ -194,11 +203,7 @@ TEST_CASE("lost and garbled replies and a stall are survived without losing line
     if (kind == 1) f.corrupt_reply = 10;
     if (kind == 2) f.stall_line = 10, f.stall_ms = 3000;  // device time: 75 ms real at 40x
     Run r = open_pty(fast_config(f));
-    grbl::Options o;
-    o.lost_reply_after = Millis(300);
-    grbl::Streamer st(*r.port, o);
-    st.connect();
-    StreamResult res = st.stream(job, 0, {}, nullptr);
+    StreamResult res = stream_counting_lost_after_300ms(r, job);
     CHECK(res.completed);
     REQUIRE(r.sim->wait_idle(20));
     auto d = testjob::compare(job_segments(job), r.sim->record());
@@ -222,11 +227,7 @@ TEST_CASE("status reports asked before lines were sent never count those lines a
   c.speedup = 1000;           // the machine runs each tiny move at once: idle and empty at every '?'
   c.link = {0, 30 * 1000.0};  // 30 ms real round trip: a report arrives after more lines left
   Run r = open_pty(c);
-  grbl::Options o;
-  o.lost_reply_after = Millis(300);
-  grbl::Streamer st(*r.port, o);
-  st.connect();
-  StreamResult res = st.stream(job, 0, {}, nullptr);
+  StreamResult res = stream_counting_lost_after_300ms(r, job);
   CHECK(res.completed);
   REQUIRE(r.sim->wait_idle(20));
   std::string warned;
