@@ -1,9 +1,13 @@
 // Motion/time model against hand-computed profiles.
 #include <catch2/catch.hpp>
+
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "drivers/motion/time_model.hpp"
 #include "util/error.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 using namespace stipplot::motion;
@@ -111,4 +115,40 @@ TEST_CASE("plan timeline: travel, pen events, per-layer sums", "[motion]") {
   MotionParams bad;
   bad.accel_mm_s2 = -1;
   CHECK_THROWS_AS(estimate_seconds(p, bad), UserError);
+}
+
+TEST_CASE("a plan of long strokes is timed the same bit for bit on 1 and 3 threads", "[motion][threads]") {
+  // Long strokes (timed side by side on several threads) among short ones and dots, in
+  // two layers; the blocks' timeline (kept in order) as the reference.
+  Plan p;
+  p.layers.resize(2);
+  uint64_t state = 99;
+  auto next = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  for (int s = 0; s < 60; ++s) {
+    Stroke st;
+    const int n = s % 7 == 0 ? 30000 : s % 3 == 0 ? 5000 : 1 + s % 40;
+    double x = 20 + next() * 300, y = 20 + next() * 200, heading = next() * 6.28;
+    for (int i = 0; i < n; ++i) {
+      heading += (next() - 0.5) * 0.6;
+      x = std::clamp(x + 0.3 * std::cos(heading), 0.0, 400.0);
+      y = std::clamp(y + 0.3 * std::sin(heading), 0.0, 290.0);
+      st.pts.push_back({x, y});
+    }
+    p.layers[static_cast<size_t>(s % 2)].strokes.push_back(st);
+  }
+  MotionParams m;
+  set_thread_count(1);
+  const MotionTimeline one = simulate_motion(p, m, {0, 0}, true);
+  const MotionTimeline blocks = simulate_motion(p, m, {0, 0}, true, true);
+  set_thread_count(3);
+  const MotionTimeline three = simulate_motion(p, m, {0, 0}, true);
+  set_thread_count(0);
+  CHECK(one.total_seconds > 0);
+  CHECK(std::memcmp(&one.total_seconds, &three.total_seconds, sizeof(double)) == 0);
+  CHECK(std::memcmp(&one.total_seconds, &blocks.total_seconds, sizeof(double)) == 0);
+  REQUIRE(three.layer_seconds.size() == 2);
+  CHECK(std::memcmp(one.layer_seconds.data(), three.layer_seconds.data(), 2 * sizeof(double)) == 0);
 }
