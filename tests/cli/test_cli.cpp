@@ -60,6 +60,19 @@ TEST_CASE("stipple with 1 and 2 threads (--threads) writes the same drawing bit 
   CHECK(r.err.find("--threads") != std::string::npos);
 }
 
+TEST_CASE("sketch and tree and pointillism with 1 and 2 threads write the same drawing bit for bit", "[cli][threads]") {
+  // sketch links each pen's strokes on a thread of its own; tree and pointillism time
+  // their long strokes side by side (drivers/motion/time_model.cpp).
+  test::TempDir t;
+  for (const std::string method : {"sketch", "tree", "pointillism"}) {
+    INFO(method);
+    const std::string base = method + " " + test::example("coffee.png") + " -q -o ";
+    REQUIRE(test::run_cli(base + t.file(method + "1.svg") + " --threads 1").exit_code == 0);
+    REQUIRE(test::run_cli(base + t.file(method + "2.svg") + " --threads 2").exit_code == 0);
+    CHECK(test::read_file(t.file(method + "1.svg")) == test::read_file(t.file(method + "2.svg")));
+  }
+}
+
 TEST_CASE("export with 1 and 2 threads writes the same G-code: a 5 MB SVG of 300,000 dots, tokenised apart, planned in halves", "[cli][threads]") {
   test::TempDir t;
   {

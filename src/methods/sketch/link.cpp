@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 
 #include "methods/link_rule.hpp"
 #include "plan/tour.hpp"
 #include "util/error.hpp"
+#include "util/threads.hpp"
 
 namespace stipplot::sketch {
 
@@ -92,19 +94,45 @@ Layer link_layer(const Field& f, const Layer& in, const LinkParams& p, LinkStats
 Drawing link_strokes(const SketchResult& r, const Drawing& kept, double density, const LinkParams& p, LinkStats* stats) {
   p.validate();
   if (!(density > 0 && density <= 1)) throw UserError("link_strokes: density must be in (0, 1]");
-  LinkStats st;
+  // Each pen's strokes are linked by a tour of their own: the pens side by side (the
+  // largest first), their layers and counts put together in layer order, so the drawing
+  // is the same on any thread count.
+  const size_t n = kept.layers.size();
   Drawing out;
   out.page = kept.page;
-  for (const Layer& l : kept.layers) {
-    const auto it = std::find_if(r.pens.begin(), r.pens.end(), [&](const PenStrokes& ps) {
-      return ps.pen.name == l.pen.name && ps.pen.color == l.pen.color;
-    });
-    if (it == r.pens.end() || r.prob.size() != r.pens.size()) {
-      out.layers.push_back(l);
-      continue;
+  out.layers.resize(n);
+  std::vector<LinkStats> per(n);
+  std::vector<size_t> order(n);
+  for (size_t i = 0; i < n; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return kept.layers[a].lines.size() > kept.layers[b].lines.size(); });
+  std::vector<std::exception_ptr> failed(n);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count()) if (n > 1)
+  for (long k = 0; k < static_cast<long>(n); ++k) {
+    const size_t i = order[static_cast<size_t>(k)];
+    const Layer& l = kept.layers[i];
+    try {
+      const auto it = std::find_if(r.pens.begin(), r.pens.end(), [&](const PenStrokes& ps) {
+        return ps.pen.name == l.pen.name && ps.pen.color == l.pen.color;
+      });
+      if (it == r.pens.end() || r.prob.size() != r.pens.size()) {
+        out.layers[i] = l;
+        continue;
+      }
+      const Field f{r, r.prob[static_cast<size_t>(it - r.pens.begin())], density};
+      out.layers[i] = link_layer(f, l, p, per[i]);
+    } catch (...) {
+      failed[i] = std::current_exception();  // an exception must not leave an OpenMP region
     }
-    const Field f{r, r.prob[static_cast<size_t>(it - r.pens.begin())], density};
-    out.layers.push_back(link_layer(f, l, p, st));
+  }
+  for (const auto& e : failed)
+    if (e) std::rethrow_exception(e);
+  LinkStats st;
+  for (const LinkStats& s : per) {
+    st.strokes += s.strokes;
+    st.lines += s.lines;
+    st.links += s.links;
+    st.link_mm += s.link_mm;
   }
   if (stats) *stats = st;
   return out;

@@ -38,7 +38,7 @@ struct LinkStats {
 // `kept` is the drawing of r's strokes to plot (to_drawing, perhaps thinned to `density`
 // of its marks, 0 < density <= 1); each layer whose pen is one of r's is linked, others
 // are copied. Time: per layer the tour's O(n k log n) over its 2n stroke ends, plus
-// O(link length / cell) per link.
+// O(link length / cell) per link; the layers in parallel (the same drawing on any count).
 Drawing link_strokes(const SketchResult& r, const Drawing& kept, double density, const LinkParams& p,
                      LinkStats* stats = nullptr);
 
