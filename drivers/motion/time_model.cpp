@@ -84,32 +84,59 @@ double polyline_seconds(const std::vector<Vec2>& pts, double vmax, const MotionP
 
 namespace {
 
-// Each long stroke's drawing time (the pen stops at both ends, so it is the stroke's own),
-// the longest first, a stroke to a thread at a time; -1 for the rest, which the caller
-// times in order. A tree's outline of 433,000 points and its next of 276,000 then run
-// side by side (a fifth of the command on one thread). The caller adds them in plan
-// order: the total is the same bit for bit on any thread count. O(points).
-std::vector<double> long_strokes_seconds(const Plan& plan, const MotionParams& m) {
-  constexpr size_t kLong = 4096, kWorthIt = 100'000;  // points: below, a thread costs more
+// Each stroke's travel to it and its drawing (the pen stops at both ends of each, so
+// each time is its own), computed in parallel over runs of strokes of ~8,192 points (the
+// runs fixed by the plan alone, the largest first: a tree's outline of 433,000 points is
+// a run of its own beside the rest), for the caller to add in plan order: the total is
+// the same bit for bit on any thread count. Empty when one thread or a small plan (below
+// 100,000 points a thread costs more than it saves). O(points).
+struct StrokeSeconds {
+  double travel, draw;
+};
+std::vector<StrokeSeconds> strokes_seconds(const Plan& plan, const MotionParams& m, Vec2 origin) {
+  constexpr size_t kRun = 8192, kWorthIt = 100'000;
+  if (thread_count() < 2) return {};
   std::vector<const Stroke*> strokes;
-  for (const auto& layer : plan.layers)
-    for (const Stroke& s : layer.strokes) strokes.push_back(&s);
-  std::vector<double> seconds(strokes.size(), -1.0);
-  if (thread_count() < 2) return seconds;
-  std::vector<uint32_t> longest;
+  std::vector<Vec2> from;  // where the pen comes from to each stroke
+  Vec2 pos = origin;
   size_t points = 0;
-  for (uint32_t i = 0; i < strokes.size(); ++i)
-    if (strokes[i]->pts.size() >= kLong) longest.push_back(i), points += strokes[i]->pts.size();
-  if (points < kWorthIt) return seconds;
-  std::stable_sort(longest.begin(), longest.end(),
-                   [&](uint32_t a, uint32_t b) { return strokes[a]->pts.size() > strokes[b]->pts.size(); });
-  const long n = static_cast<long>(longest.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count())
-  for (long k = 0; k < n; ++k) {
-    const uint32_t i = longest[static_cast<size_t>(k)];
-    seconds[i] = polyline_seconds(strokes[i]->pts, m.speed_down_mm_s, m);
+  for (const auto& layer : plan.layers)
+    for (const Stroke& s : layer.strokes) {
+      strokes.push_back(&s);
+      from.push_back(pos);
+      if (!s.pts.empty()) pos = s.pts.back();
+      points += s.pts.size() + 1;
+    }
+  if (points < kWorthIt) return {};
+  std::vector<std::pair<size_t, size_t>> runs;  // [first, last) strokes
+  std::vector<size_t> run_points;
+  for (size_t i = 0, in_run = 0; i < strokes.size(); ++i) {
+    if (in_run == 0) runs.push_back({i, i}), run_points.push_back(0);
+    runs.back().second = i + 1;
+    in_run += strokes[i]->pts.size() + 1;
+    run_points.back() = in_run;
+    if (in_run >= kRun) in_run = 0;
   }
-  return seconds;
+  std::vector<size_t> order(runs.size());
+  for (size_t r = 0; r < order.size(); ++r) order[r] = r;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return run_points[a] > run_points[b]; });
+  std::vector<StrokeSeconds> out(strokes.size(), StrokeSeconds{0, 0});
+#pragma omp parallel num_threads(thread_count())
+  {
+    std::vector<Vec2> travel(2);
+#pragma omp for schedule(dynamic, 1)
+    for (long k = 0; k < static_cast<long>(order.size()); ++k) {
+      const auto [first, last] = runs[order[static_cast<size_t>(k)]];
+      for (size_t i = first; i < last; ++i) {
+        const Stroke& s = *strokes[i];
+        if (s.pts.empty()) continue;
+        travel[0] = from[i];
+        travel[1] = s.pts.front();
+        out[i] = {polyline_seconds(travel, m.speed_up_mm_s, m), polyline_seconds(s.pts, m.speed_down_mm_s, m)};
+      }
+    }
+  }
+  return out;
 }
 
 }  // namespace
@@ -119,8 +146,8 @@ MotionTimeline simulate_motion(const Plan& plan, const MotionParams& m, Vec2 ori
   validate(m);
   MotionTimeline tl;
   std::vector<MotionBlock>* out = keep_blocks ? &tl.blocks : nullptr;
-  // Blocks are kept in time order, so only a plain timing takes the long strokes apart.
-  const std::vector<double> long_s = out ? std::vector<double>{} : long_strokes_seconds(plan, m);
+  // Blocks are kept in time order, so only a plain timing takes the strokes apart.
+  const std::vector<StrokeSeconds> apart = out ? std::vector<StrokeSeconds>{} : strokes_seconds(plan, m, origin);
   size_t k = 0;  // the stroke's number in the plan
   Vec2 pos = origin;
   double t = 0;
@@ -129,15 +156,15 @@ MotionTimeline simulate_motion(const Plan& plan, const MotionParams& m, Vec2 ori
     const double layer_t0 = t;
     t += m.pen_change_s;  // take up this layer's pen
     for (const Stroke& s : plan.layers[li].strokes) {
-      const double timed = k < long_s.size() ? long_s[k] : -1.0;
+      const StrokeSeconds* timed = k < apart.size() ? &apart[k] : nullptr;
       ++k;
       if (s.pts.empty()) continue;
       travel[0] = pos;
       travel[1] = s.pts.front();
-      t += polyline_seconds(travel, m.speed_up_mm_s, m, out, BlockKind::Travel, li, t);
+      t += timed ? timed->travel : polyline_seconds(travel, m.speed_up_mm_s, m, out, BlockKind::Travel, li, t);
       if (out) out->push_back({BlockKind::PenDown, li, t, m.pen_drop_s, s.pts.front(), s.pts.front()});
       t += m.pen_drop_s;
-      t += timed >= 0 ? timed : polyline_seconds(s.pts, m.speed_down_mm_s, m, out, BlockKind::Draw, li, t);
+      t += timed ? timed->draw : polyline_seconds(s.pts, m.speed_down_mm_s, m, out, BlockKind::Draw, li, t);
       if (out) out->push_back({BlockKind::PenUp, li, t, m.pen_lift_s, s.pts.back(), s.pts.back()});
       t += m.pen_lift_s;
       pos = s.pts.back();
