@@ -241,6 +241,23 @@ TEST_CASE("status reports asked before lines were sent never count those lines a
   CHECK(d.equal());
 }
 
+// grbl reports Idle with its buffers empty while it dwells: a dwell longer than the
+// lost-reply wait is not a lost reply (its "ok" comes when the dwell ends).
+TEST_CASE("a dwell longer than the lost-reply wait is waited for and not counted as a lost reply", "[drivers][grbl][faults]") {
+  const Job job = parse_gcode_job("G21\nG90\nG94\nG1 X1 Y1 F3000\nG4 P1.2\n");  // nothing behind it in the buffer
+  sim::GrblSimConfig c = fast_config();
+  c.speedup = 1;  // the dwell takes its 1.2 s of wall clock
+  Run r = open_pty(c);
+  const StreamResult res = stream_counting_lost_after_300ms(r, job);
+  CHECK(res.completed);
+  std::string warned;
+  for (const std::string& w : res.warnings) warned += w + "\n";
+  INFO(warned);
+  CHECK(res.warnings.empty());
+  REQUIRE(r.sim->wait_idle(20));
+  CHECK(r.sim->stats().rx_overflow == 0);
+}
+
 TEST_CASE("check mode ($C) finds a bad line and moves nothing", "[drivers][grbl]") {
   sim::GrblSim sim(fast_config());
   auto port = sim.connect_loopback();

@@ -38,6 +38,17 @@ bool only_dwell(const std::string& text) {
   return dwell;
 }
 
+// Seconds a line dwells (G4 P..; grbl 1.1 reads P in seconds), 0 for any other line.
+double dwell_seconds(const std::string& text) {
+  bool dwell = false;
+  double p = 0;
+  for (const GcodeWord& w : gcode_words(text)) {
+    if (w.letter == 'G' && is_dwell(w)) dwell = true;
+    else if (w.letter == 'P') p = w.value;
+  }
+  return dwell && p > 0 ? p : 0;
+}
+
 // A line that moves an axis (X, Y or Z word, not a dwell).
 bool moves_axes(const std::string& text) {
   bool axis = false;
@@ -410,6 +421,11 @@ class Streamer::JobRun {
     }
     if (idle_polls_++ == 0) idle_first_ = clock::now();
     if (idle_polls_ < 3 || clock::now() - idle_first_ <= o_.lost_reply_after) return;
+    // grbl reports Idle, its buffers empty, while it dwells: a dwell among these lines (the
+    // window's items run on from its oldest) is given its time as well.
+    double dwell = 0;
+    for (size_t i = window_.oldest().item; i < sent_when_asked; ++i) dwell = std::max(dwell, dwell_seconds(session_.text(i)));
+    if (clock::now() - idle_first_ <= o_.lost_reply_after + std::chrono::duration<double>(dwell)) return;
     size_t lost = 0;
     while (!window_.empty() && window_.oldest().item < sent_when_asked) {
       acknowledge(window_.answered());
