@@ -96,18 +96,19 @@ struct StrokeSeconds {
 std::vector<StrokeSeconds> strokes_seconds(const Plan& plan, const MotionParams& m, Vec2 origin) {
   constexpr size_t kRun = 8192, kWorthIt = 100'000;
   if (thread_count() < 2) return {};
+  size_t points = 0;
+  for (const auto& layer : plan.layers)
+    for (const Stroke& s : layer.strokes) points += s.pts.size() + 1;
+  if (points < kWorthIt) return {};  // before anything is allocated: the budget times many small plans
   std::vector<const Stroke*> strokes;
   std::vector<Vec2> from;  // where the pen comes from to each stroke
   Vec2 pos = origin;
-  size_t points = 0;
   for (const auto& layer : plan.layers)
     for (const Stroke& s : layer.strokes) {
       strokes.push_back(&s);
       from.push_back(pos);
       if (!s.pts.empty()) pos = s.pts.back();
-      points += s.pts.size() + 1;
     }
-  if (points < kWorthIt) return {};
   std::vector<std::pair<size_t, size_t>> runs;  // [first, last) strokes
   std::vector<size_t> run_points;
   for (size_t i = 0, in_run = 0; i < strokes.size(); ++i) {

@@ -8,6 +8,8 @@
 #include <thread>
 
 #include "drivers/job/gcode_reader.hpp"
+#include "drivers/job/gcode_state.hpp"
+#include "drivers/motion/grbl_motion.hpp"
 #include "drivers/stream/grbl/codes.hpp"
 #include "drivers/stream/grbl/streamer.hpp"
 #include "drivers/stream/session.hpp"
@@ -38,15 +40,10 @@ bool only_dwell(const std::string& text) {
   return dwell;
 }
 
-// Seconds a line dwells (G4 P..; grbl 1.1 reads P in seconds), 0 for any other line.
+// Seconds a line dwells, as grbl counts them (its 50 ms steps), 0 for any other line.
 double dwell_seconds(const std::string& text) {
-  bool dwell = false;
-  double p = 0;
-  for (const GcodeWord& w : gcode_words(text)) {
-    if (w.letter == 'G' && is_dwell(w)) dwell = true;
-    else if (w.letter == 'P') p = w.value;
-  }
-  return dwell && p > 0 ? p : 0;
+  const GcodeEffect e = GcodeState().apply(text);  // a dwell is not modal: any state reads it
+  return e.dwell ? motion::grbl_dwell_seconds(e.dwell_p) : 0;
 }
 
 // A line that moves an axis (X, Y or Z word, not a dwell).
