@@ -50,27 +50,44 @@ double polyline_seconds(const std::vector<Vec2>& pts, double vmax, const MotionP
     Vec2 from, to, u;
     double L, a, max_entry_sqr;
   };
-  std::vector<Seg> segs;
-  segs.reserve(pts.size());
-  for (size_t k = 1; k < pts.size(); ++k) {
-    const Vec2 d{pts[k].x - pts[k - 1].x, pts[k].y - pts[k - 1].y};
-    const double L = std::hypot(d.x, d.y);
-    if (!(L > 1e-9)) continue;  // grbl drops zero-length blocks
-    const Vec2 u{d.x / L, d.y / L};
-    Seg s{pts[k - 1], pts[k], u, L, axis_limited_accel(m.accel_mm_s2, u), 0};
-    if (!segs.empty()) s.max_entry_sqr = std::min(vmax * vmax, junction_speed_sqr(segs.back().u, u, m));
-    segs.push_back(s);
-  }
-  const size_t n = segs.size();
+  // Only the planner's window of segments is kept, not one per point: a 900,000-point
+  // outline would otherwise take 65 MB of fresh pages on each timing (the budget times a
+  // plan several times). The window is written twice over (at p and p + cap) so that
+  // blocks i .. i+B-1 are always contiguous.
   const size_t B = static_cast<size_t>(std::max(1, m.lookahead_blocks));
+  const size_t cap = std::max<size_t>(1, std::min(B, pts.size()));
+  std::vector<Seg> window(2 * cap);
+  size_t head = 0, count = 0, next = 1;
+  bool have_prev = false;
+  Vec2 prev_u{0, 0};
+  auto pull = [&] {  // appends the next segment of non-zero length; false at the end
+    while (next < pts.size()) {
+      const size_t k = next++;
+      const Vec2 d{pts[k].x - pts[k - 1].x, pts[k].y - pts[k - 1].y};
+      const double L = std::hypot(d.x, d.y);
+      if (!(L > 1e-9)) continue;  // grbl drops zero-length blocks
+      const Vec2 u{d.x / L, d.y / L};
+      Seg s{pts[k - 1], pts[k], u, L, axis_limited_accel(m.accel_mm_s2, u), 0};
+      if (have_prev) s.max_entry_sqr = std::min(vmax * vmax, junction_speed_sqr(prev_u, u, m));
+      prev_u = u, have_prev = true;
+      const size_t p = head + count < cap ? head + count : head + count - cap;
+      window[p] = window[p + cap] = s;
+      ++count;
+      return true;
+    }
+    return false;
+  };
   double t = 0, v_entry = 0;
-  for (size_t i = 0; i < n; ++i) {
-    // What the planner knows while block i runs: blocks i .. i+B-1, the last of
-    // which must end at rest. Backward pass from there to block i's exit.
-    const size_t last = std::min(i + B - 1, n - 1);
+  for (;;) {
+    while (count < B && pull()) {
+    }
+    if (count == 0) break;
+    // What the planner knows while block i runs: blocks i .. i+B-1 (the window), the
+    // last of which must end at rest. Backward pass from there to block i's exit.
+    const Seg* w = &window[head];
     double v_sqr = 0;
-    for (size_t j = last; j > i; --j) v_sqr = std::min(segs[j].max_entry_sqr, v_sqr + 2 * segs[j].a * segs[j].L);
-    const Seg& s = segs[i];
+    for (size_t j = count - 1; j > 0; --j) v_sqr = std::min(w[j].max_entry_sqr, v_sqr + 2 * w[j].a * w[j].L);
+    const Seg& s = w[0];
     const double exit_sqr = std::min(v_sqr, v_entry * v_entry + 2 * s.a * s.L);  // forward pass
     const double v_exit = std::sqrt(exit_sqr);
     double v_peak = 0;
@@ -78,6 +95,8 @@ double polyline_seconds(const std::vector<Vec2>& pts, double vmax, const MotionP
     if (out) out->push_back({kind, layer, t0 + t, dt, s.from, s.to, v_entry, v_exit, v_peak});
     t += dt;
     v_entry = v_exit;
+    head = head + 1 < cap ? head + 1 : 0;
+    --count;
   }
   return t;
 }
