@@ -453,68 +453,94 @@ void MethodCommand::run() const {
                           a.draft ? 25.4 / a.preview_dpi : 0.0};
   const MethodDraft draft = prepare_(input);
   budget::SearchOutcome so;
-  MethodResult r = draw_within_budget(draft, a.knob, budget_s, prof, po, so);
+  MethodResult r;
   const Vec2 img_lo = tf.map(0, 0), img_hi = tf.map(image.width, image.height);
   layout::ClipCounts clipped;
-  auto finish_drawing = [&] {
-    // Each pen taken up once, light inks before dark (a dark pen never drags through a
-    // light one's wet ink), whatever the method.
-    merge_layers_by_pen(r.drawing);
-    // Every mark inside the image's rectangle on the page: strokes shaped near the border
-    // must not run past it, nor off a page with no margin.
-    clipped = layout::clip_to_rect(r.drawing, Rect{img_lo.x, img_lo.y, img_hi.x, img_hi.y});
-  };
-  finish_drawing();
-  double method_s = seconds_since(t1);
-
+  double method_s = 0;
   // The plan of the method's page: what the preview and the measures render, and the
   // plot time (a layout for the device moves and turns the drawing, which keeps it).
-  auto t2 = std::chrono::steady_clock::now();
   const bool timed_moves = output_kind(a.output) == OutputKind::gcode || output_kind(a.output) == OutputKind::ebb;
-  Plan plan = plan_drawing(r.drawing, po);
-  PlanStats stats = plan_stats(plan, prof.motion, po.origin, timed_moves);
-  // The search judged its runs by the quick estimate; the plan can take a few per cent
-  // more (a zig-zag hatching's corners). Over the budget: again, at the knob scaled down
-  // by the overshoot and 1.5 % besides (twice at most; then 5 %).
-  for (int redo = 0; redo < 2 && a.knob < 0 && so.knob > 0 && stats.total.seconds > budget_s; ++redo) {
+  Plan plan;
+  PlanStats stats;
+  auto t2 = std::chrono::steady_clock::now();
+  // The drawing whose plan fits `target_s`: the density search, then the plan.
+  auto fit = [&](double target_s) {
     const auto t3 = std::chrono::steady_clock::now();
-    so.knob *= (redo == 0 ? 0.985 : 0.95) * budget_s / stats.total.seconds;
-    r = draft.draw(so.knob);
-    so.seconds = budget::quick_estimate_seconds(r.drawing, prof.motion, po);
-    ++so.runs;
-    so.finest = false;
+    const int runs_before = so.runs;
+    r = draw_within_budget(draft, a.knob, target_s, prof, po, so);
+    so.runs += runs_before;
+    auto finish_drawing = [&] {
+      // Each pen taken up once, light inks before dark (a dark pen never drags through a
+      // light one's wet ink), whatever the method.
+      merge_layers_by_pen(r.drawing);
+      // Every mark inside the image's rectangle on the page: strokes shaped near the border
+      // must not run past it, nor off a page with no margin.
+      clipped = layout::clip_to_rect(r.drawing, Rect{img_lo.x, img_lo.y, img_hi.x, img_hi.y});
+    };
     finish_drawing();
     method_s += seconds_since(t3);
     t2 = std::chrono::steady_clock::now();
     plan = plan_drawing(r.drawing, po);
     stats = plan_stats(plan, prof.motion, po.origin, timed_moves);
+    // The search judged its runs by the quick estimate; the plan can take a few per cent
+    // more (a zig-zag hatching's corners). Over the target: again, at the knob scaled
+    // down by the overshoot and 1.5 % besides (twice at most; then 5 %).
+    for (int redo = 0; redo < 2 && a.knob < 0 && so.knob > 0 && stats.total.seconds > target_s; ++redo) {
+      const auto t4 = std::chrono::steady_clock::now();
+      so.knob *= (redo == 0 ? 0.985 : 0.95) * target_s / stats.total.seconds;
+      r = draft.draw(so.knob);
+      so.seconds = budget::quick_estimate_seconds(r.drawing, prof.motion, po);
+      ++so.runs;
+      so.finest = false;
+      finish_drawing();
+      method_s += seconds_since(t4);
+      t2 = std::chrono::steady_clock::now();
+      plan = plan_drawing(r.drawing, po);
+      stats = plan_stats(plan, prof.motion, po.origin, timed_moves);
+    }
+  };
+  method_s = seconds_since(t1);  // the draft's preparation
+  fit(budget_s);
+  // A device's job is timed from its written lines (the wire's pace included: a grbl
+  // plotter's 115,200 baud feed 600-odd short lines a second, which a tree's rounded tips
+  // outrun): over the budget, the drawing is made again below it and the job rewritten.
+  const bool device_job = output_kind(a.output) != OutputKind::svg;
+  for (int job_redo = 0;; ++job_redo) {
+    nlohmann::json s = r.summary;
+    s["command"] = name_;
+    s["input"] = a.input;
+    s["image_px"] = {image.width, image.height};
+    s["clipped_at_image_edge"] = clipped.total();
+    s["profile"] = prof.name;
+    s["plan"] = to_json(stats);
+    s["seconds_plan"] = seconds_since(t2);
+    MethodRun mr(image, tf, r, plan, a.preview_dpi, s);
+    // The preview renders beside the layout and the writing of -o (a second core's work).
+    if (!a.preview.empty()) mr.render_preview_beside();
+    // -o gets the drawing laid out for the device; the preview and the measurements keep
+    // the method's page, where the image lies as the transform says.
+    std::string laid_out;
+    const bool lay_out = device || a.layout.any_given();
+    const Drawing out = lay_out ? lay_out_for_device(r.drawing, sheet_args, device ? &*device : nullptr,
+                                                     placement.margin_mm, s, laid_out)
+                                : Drawing{};
+    write_outputs(r, lay_out ? &out : nullptr, mr, s);
+    const double plot_s = device_job ? s["plan"]["total"]["seconds"].get<double>() : stats.total.seconds;
+    if (device_job && a.knob < 0 && so.knob > 0 && plot_s > budget_s && job_redo < 2) {
+      // The wire's share of the job is about the same at any density: the search again,
+      // for the plan time that leaves room for it (1 % below; 5 % the second time).
+      fit((job_redo == 0 ? 0.99 : 0.95) * budget_s * stats.total.seconds / plot_s);
+      continue;
+    }
+    const BudgetReport budget_report = report_budget(draft, so, budget_s, plot_s, prof.name);
+    s["budget"] = budget_report.json;
+    if (r.measure) r.measure(mr);
+    if (measure_option_->count() > 0) report_view(mr, parse_view_sigma_mm(a.view_sigma));
+    s["seconds_method"] = method_s;
+    s["seconds"] = seconds_since(t0);
+    a.report.print(s, sentence(r, mr, s, budget_report.words) + (laid_out.empty() ? "" : "; " + laid_out));
+    return;
   }
-  nlohmann::json s = r.summary;
-  s["command"] = name_;
-  s["input"] = a.input;
-  s["image_px"] = {image.width, image.height};
-  s["clipped_at_image_edge"] = clipped.total();
-  s["profile"] = prof.name;
-  s["plan"] = to_json(stats);
-  s["seconds_plan"] = seconds_since(t2);
-  const BudgetReport budget_report = report_budget(draft, so, budget_s, stats.total.seconds, prof.name);
-  s["budget"] = budget_report.json;
-  MethodRun mr(image, tf, r, plan, a.preview_dpi, s);
-  // The preview renders beside the layout and the writing of -o (a second core's work).
-  if (!a.preview.empty()) mr.render_preview_beside();
-  // -o gets the drawing laid out for the device; the preview and the measurements keep
-  // the method's page, where the image lies as the transform says.
-  std::string laid_out;
-  const bool lay_out = device || a.layout.any_given();
-  const Drawing out = lay_out ? lay_out_for_device(r.drawing, sheet_args, device ? &*device : nullptr,
-                                                   placement.margin_mm, s, laid_out)
-                              : Drawing{};
-  write_outputs(r, lay_out ? &out : nullptr, mr, s);
-  if (r.measure) r.measure(mr);
-  if (measure_option_->count() > 0) report_view(mr, parse_view_sigma_mm(a.view_sigma));
-  s["seconds_method"] = method_s;
-  s["seconds"] = seconds_since(t0);
-  a.report.print(s, sentence(r, mr, s, budget_report.words) + (laid_out.empty() ? "" : "; " + laid_out));
 }
 
 void MethodCommand::write_outputs(MethodResult& r, const Drawing* laid_out, MethodRun& run, nlohmann::json& s) const {

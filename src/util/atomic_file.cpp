@@ -92,8 +92,13 @@ AtomicFile::~AtomicFile() {
 void AtomicFile::commit() {
   OutputBatch* batch = g_batch.load();
   if (batch && batch->stages_this_thread()) {  // the batch renames or removes it
-    batch->staged_.push_back({temp_, target_});
     committed_ = true;
+    for (const auto& s : batch->staged_)
+      if (s.temp == temp_) {  // written again (a run that redid its output): the newer contents stand
+        unregister_temp(slot_of(temp_));
+        return;
+      }
+    batch->staged_.push_back({temp_, target_});
     return;
   }
   std::error_code ec;

@@ -29,6 +29,21 @@ TEST_CASE("a batch's files appear only at its commit", "[util][outputs]") {
   CHECK(std::distance(fs::directory_iterator(t.path), fs::directory_iterator()) == 2);
 }
 
+TEST_CASE("a file written twice in one batch appears once with the newer contents", "[util][outputs]") {
+  // A method whose written job came out over its time budget draws again and writes -o
+  // once more before the batch commits.
+  test::TempDir t;
+  {
+    OutputBatch batch;
+    write_file_atomic(t.file("job.gcode"), "first");
+    write_file_atomic(t.file("job.gcode"), "second");
+    CHECK(batch.staged() == 1);
+    batch.commit();
+  }
+  CHECK(test::read_file(t.file("job.gcode")) == "second");
+  CHECK(std::distance(fs::directory_iterator(t.path), fs::directory_iterator()) == 1);
+}
+
 TEST_CASE("a batch dropped uncommitted leaves nothing", "[util][outputs]") {
   test::TempDir t;
   write_file_atomic(t.file("kept.txt"), "old");
