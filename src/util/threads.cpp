@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <opencv2/core/utility.hpp>
 
 #include "util/error.hpp"
 
@@ -22,6 +23,9 @@ void set_thread_count(int n) {
     if (const char* env = std::getenv("OMP_NUM_THREADS"); env && std::atoi(env) > 0) n = std::min(std::atoi(env), kMostThreads);
   omp_set_num_threads(n == 0 ? omp_get_num_procs() : n);
 #endif
+  // OpenCV's resizes and blurs run on a pool of their own, one thread a core unless told:
+  // --threads 1 must be one thread there too.
+  cv::setNumThreads(thread_count());
 }
 
 int thread_count() {

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
+#include <opencv2/core/utility.hpp>
 #include <thread>
 
 #include "util/error.hpp"
@@ -25,4 +26,13 @@ TEST_CASE("thread count: 0 follows OMP_NUM_THREADS when set, else one per core, 
   CHECK_THROWS_AS(set_thread_count(1025), UserError);
   if (before) ::setenv("OMP_NUM_THREADS", saved.c_str(), 1);
   set_thread_count(0);
+}
+
+TEST_CASE("OpenCV's own thread pool takes the same count: --threads 1 is one thread", "[threads]") {
+  set_thread_count(1);
+  CHECK(cv::getNumThreads() == 1);
+  set_thread_count(2);
+  CHECK(cv::getNumThreads() == 2);
+  set_thread_count(0);
+  CHECK(cv::getNumThreads() == thread_count());
 }
