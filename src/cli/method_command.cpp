@@ -456,55 +456,62 @@ void MethodCommand::run() const {
   MethodResult r;
   const Vec2 img_lo = tf.map(0, 0), img_hi = tf.map(image.width, image.height);
   layout::ClipCounts clipped;
-  double method_s = 0;
   // The plan of the method's page: what the preview and the measures render, and the
   // plot time (a layout for the device moves and turns the drawing, which keeps it).
   const bool timed_moves = output_kind(a.output) == OutputKind::gcode || output_kind(a.output) == OutputKind::ebb;
   Plan plan;
   PlanStats stats;
   auto t2 = std::chrono::steady_clock::now();
-  // The drawing whose plan fits `target_s`: the density search, then the plan.
-  auto fit = [&](double target_s) {
-    const auto t3 = std::chrono::steady_clock::now();
-    const int runs_before = so.runs;
-    r = draw_within_budget(draft, a.knob, target_s, prof, po, so);
-    so.runs += runs_before;
-    auto finish_drawing = [&] {
-      // Each pen taken up once, light inks before dark (a dark pen never drags through a
-      // light one's wet ink), whatever the method.
-      merge_layers_by_pen(r.drawing);
-      // Every mark inside the image's rectangle on the page: strokes shaped near the border
-      // must not run past it, nor off a page with no margin.
-      clipped = layout::clip_to_rect(r.drawing, Rect{img_lo.x, img_lo.y, img_hi.x, img_hi.y});
-    };
-    finish_drawing();
-    method_s += seconds_since(t3);
+  double method_s = 0;
+  auto finish_drawing = [&] {
+    // Each pen taken up once, light inks before dark (a dark pen never drags through a
+    // light one's wet ink), whatever the method.
+    merge_layers_by_pen(r.drawing);
+    // Every mark inside the image's rectangle on the page: strokes shaped near the border
+    // must not run past it, nor off a page with no margin.
+    clipped = layout::clip_to_rect(r.drawing, Rect{img_lo.x, img_lo.y, img_hi.x, img_hi.y});
+  };
+  auto make_plan = [&] {
     t2 = std::chrono::steady_clock::now();
     plan = plan_drawing(r.drawing, po);
     stats = plan_stats(plan, prof.motion, po.origin, timed_moves);
-    // The search judged its runs by the quick estimate; the plan can take a few per cent
-    // more (a zig-zag hatching's corners). Over the target: again, at the knob scaled
-    // down by the overshoot and 1.5 % besides (twice at most; then 5 %).
-    for (int redo = 0; redo < 2 && a.knob < 0 && so.knob > 0 && stats.total.seconds > target_s; ++redo) {
-      const auto t4 = std::chrono::steady_clock::now();
-      so.knob *= (redo == 0 ? 0.985 : 0.95) * target_s / stats.total.seconds;
-      r = draft.draw(so.knob);
-      so.seconds = budget::quick_estimate_seconds(r.drawing, prof.motion, po);
-      ++so.runs;
-      so.finest = false;
-      finish_drawing();
-      method_s += seconds_since(t4);
-      t2 = std::chrono::steady_clock::now();
-      plan = plan_drawing(r.drawing, po);
-      stats = plan_stats(plan, prof.motion, po.origin, timed_moves);
-    }
   };
-  method_s = seconds_since(t1);  // the draft's preparation
-  fit(budget_s);
+  // Over the budget by `seconds` at the knob now: again at a knob below, `margin` below
+  // the budget, the step sized by how the time goes with the knob near it: through an
+  // earlier (knob, seconds) of the same measure when there is one (a tree's job went as
+  // about k^0.4), else as the prediction goes.
+  auto redraw_below = [&](double seconds, double margin, std::pair<double, double> before = {0, 0}) {
+    const auto t3 = std::chrono::steady_clock::now();
+    const double k = so.knob;
+    double power = 1;
+    if (before.first > 0 && before.second > 0 && before.first != k && before.second != seconds) {
+      power = std::log(before.second / seconds) / std::log(before.first / k);
+    } else if (const double p = draft.predict(k), p_lower = draft.predict(0.9 * k); p > 0 && p_lower > 0 && p != p_lower) {
+      power = std::log(p / p_lower) / std::log(1 / 0.9);
+    }
+    so.knob = k * std::pow(margin * budget_s / seconds, 1 / std::clamp(power, 0.2, 3.0));
+    r = draft.draw(so.knob);
+    so.seconds = budget::quick_estimate_seconds(r.drawing, prof.motion, po);
+    ++so.runs;
+    so.finest = false;
+    finish_drawing();
+    method_s += seconds_since(t3);
+    make_plan();
+  };
+  r = draw_within_budget(draft, a.knob, budget_s, prof, po, so);
+  finish_drawing();
+  method_s = seconds_since(t1);
+  make_plan();
+  // The search judged its runs by the quick estimate; the plan can take a few per cent
+  // more (a zig-zag hatching's corners). Over the budget: again, 1.5 % below it (twice at
+  // most; then 5 %).
+  for (int redo = 0; redo < 2 && a.knob < 0 && so.knob > 0 && stats.total.seconds > budget_s; ++redo)
+    redraw_below(stats.total.seconds, redo == 0 ? 0.985 : 0.95);
   // A device's job is timed from its written lines (the wire's pace included: a grbl
   // plotter's 115,200 baud feed 600-odd short lines a second, which a tree's rounded tips
   // outrun): over the budget, the drawing is made again below it and the job rewritten.
   const bool device_job = output_kind(a.output) != OutputKind::svg;
+  std::pair<double, double> job_before{0, 0};  // an earlier drawing's knob and job seconds
   for (int job_redo = 0;; ++job_redo) {
     nlohmann::json s = r.summary;
     s["command"] = name_;
@@ -526,10 +533,10 @@ void MethodCommand::run() const {
                                 : Drawing{};
     write_outputs(r, lay_out ? &out : nullptr, mr, s);
     const double plot_s = device_job ? s["plan"]["total"]["seconds"].get<double>() : stats.total.seconds;
-    if (device_job && a.knob < 0 && so.knob > 0 && plot_s > budget_s && job_redo < 2) {
-      // The wire's share of the job is about the same at any density: the search again,
-      // for the plan time that leaves room for it (1 % below; 5 % the second time).
-      fit((job_redo == 0 ? 0.99 : 0.95) * budget_s * stats.total.seconds / plot_s);
+    if (device_job && a.knob < 0 && so.knob > 0 && plot_s > budget_s && job_redo < 3) {
+      const std::pair<double, double> now{so.knob, plot_s};
+      redraw_below(plot_s, job_redo < 2 ? 0.985 : 0.95, job_before);
+      job_before = now;
       continue;
     }
     const BudgetReport budget_report = report_budget(draft, so, budget_s, plot_s, prof.name);
