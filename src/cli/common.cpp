@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "cli/job_estimate.hpp"
+#include "drivers/writers/ebb_writer.hpp"
 #include "drivers/writers/gcode_writer.hpp"
 #include "drivers/writers/hpgl_writer.hpp"
 #include "drivers/device/machine.hpp"
@@ -105,15 +106,38 @@ PlanOptions plan_options_for(const DeviceProfile& profile, const Page& page, con
   return po;
 }
 
-void write_plan_file(const Plan& plan, const std::string& path, const DeviceProfile& profile, bool show_travel,
-                     nlohmann::json* plan_summary) {
-  const OutputKind kind = output_kind(path);
-  // The written lines' own time, not the plan's; about a line a point and five a stroke
-  // (travel, pen down and up with their waits).
+namespace {
+// About a line a point and five a stroke (travel, pen down and up with their waits).
+size_t job_lines_hint(const Plan& plan) {
   size_t lines = 64;
   for (const PlannedLayer& l : plan.layers)
     for (const Stroke& s : l.strokes) lines += s.pts.size() + 5;
-  JobEstimate timed(profile, lines);
+  return lines;
+}
+}  // namespace
+
+void time_as_job(const Plan& plan, const DeviceProfile& profile, nlohmann::json& plan_summary) {
+  JobEstimate timed(profile, job_lines_hint(plan));
+  const LineSink nowhere = [](std::string_view) {};
+  if (profile.protocol == Protocol::grbl)
+    write_gcode(plan, profile, nowhere, timed.gcode_options());
+  else if (profile.protocol == Protocol::ebb)
+    write_ebb(plan, profile, nowhere, timed.ebb_options());
+  else
+    write_hpgl(plan, profile, nowhere, timed.hpgl_options());
+  timed.apply(plan_summary);
+}
+
+bool link_may_bind(const Plan& plan, double plan_seconds, const DeviceProfile& profile) {
+  const double lines_per_s = profile.serial.port.baud / 10.0 / 20.0;
+  return plan_seconds > 0 && static_cast<double>(job_lines_hint(plan)) / plan_seconds > 0.25 * lines_per_s;
+}
+
+void write_plan_file(const Plan& plan, const std::string& path, const DeviceProfile& profile, bool show_travel,
+                     nlohmann::json* plan_summary) {
+  const OutputKind kind = output_kind(path);
+  // The written lines' own time, not the plan's.
+  JobEstimate timed(profile, job_lines_hint(plan));
   if (kind == OutputKind::gcode) {
     write_gcode_file(plan, profile, path, timed.gcode_options());
     if (plan_summary) timed.apply(*plan_summary);

@@ -73,6 +73,14 @@ PlanOptions plan_options_for(const DeviceProfile& profile, const Page& page, con
 // plan_summary, when given, gets the written job's own timed seconds (G-code and HPGL).
 void write_plan_file(const Plan& plan, const std::string& path, const DeviceProfile& profile, bool show_travel,
                      nlohmann::json* plan_summary = nullptr);
+// The job `profile` would get for `plan`, timed from its lines as write_plan_file times a
+// written one (the link's pace included) without writing it: plan_summary's total and
+// layer seconds and stops. O(points).
+void time_as_job(const Plan& plan, const DeviceProfile& profile, nlohmann::json& plan_summary);
+// Whether the link could hold a plan's job back: its lines (about a point each) come
+// faster than a quarter of what the profile's serial link carries at 20 bytes a line
+// (a 12-MP tree's 900,000 points in an hour; not a stipple's). O(strokes).
+bool link_may_bind(const Plan& plan, double plan_seconds, const DeviceProfile& profile);
 
 // "1 layer", "3 layers".
 std::string layers_phrase(size_t n);

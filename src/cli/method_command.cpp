@@ -511,6 +511,7 @@ void MethodCommand::run() const {
   // plotter's 115,200 baud feed 600-odd short lines a second, which a tree's rounded tips
   // outrun): over the budget, the drawing is made again below it and the job rewritten.
   const bool device_job = output_kind(a.output) != OutputKind::svg;
+  const bool searched = a.knob < 0 && !a.draft;
   std::pair<double, double> job_before{0, 0};  // an earlier drawing's knob and job seconds
   for (int job_redo = 0;; ++job_redo) {
     nlohmann::json s = r.summary;
@@ -532,8 +533,11 @@ void MethodCommand::run() const {
                                                      placement.margin_mm, s, laid_out)
                                 : Drawing{};
     write_outputs(r, lay_out ? &out : nullptr, mr, s);
-    const double plot_s = device_job ? s["plan"]["total"]["seconds"].get<double>() : stats.total.seconds;
-    if (device_job && a.knob < 0 && so.knob > 0 && plot_s > budget_s && job_redo < 3) {
+    // An SVG is a job for the profile too (the studio exports it): timed as one where the
+    // link could hold it back, not while a control moves (--draft).
+    if (!device_job && !a.draft && link_may_bind(plan, stats.total.seconds, prof)) time_as_job(plan, prof, s["plan"]);
+    const double plot_s = s["plan"]["total"]["seconds"].get<double>();
+    if (searched && so.knob > 0 && plot_s > budget_s && job_redo < 3) {
       const std::pair<double, double> now{so.knob, plot_s};
       redraw_below(plot_s, job_redo < 2 ? 0.985 : 0.95, job_before);
       job_before = now;

@@ -61,6 +61,13 @@ TEST_CASE("a written grbl job fits the budget with the wire's pace", "[budget][c
   INFO(j["budget"].dump());
   CHECK(job <= 3600);
   CHECK(job >= 0.9 * 3600);
+  // The studio's way: an SVG for the profile, exported to its job afterwards.
+  const auto svg = run_json("tree " + test::example("coffee.png") + " -o " + t.file("tree.svg") +
+                            " --profile grbl-servo --time 1h");
+  const auto exported = run_json("export " + t.file("tree.svg") + " -o " + t.file("exported.gcode") + " --profile grbl-servo");
+  const double exported_s = exported["plan"]["total"]["seconds"].get<double>();
+  CHECK(exported_s <= 3600);
+  CHECK(exported_s == Approx(svg["plan"]["total"]["seconds"].get<double>()).epsilon(0.01));
 }
 
 TEST_CASE("the same page and pen give the same marks whatever the input's resolution", "[budget][cli][slow]") {
