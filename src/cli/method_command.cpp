@@ -533,9 +533,11 @@ void MethodCommand::run() const {
                                                      placement.margin_mm, s, laid_out)
                                 : Drawing{};
     write_outputs(r, lay_out ? &out : nullptr, mr, s);
-    // An SVG is a job for the profile too (the studio exports it): timed as one where the
-    // link could hold it back, not while a control moves (--draft).
-    if (!device_job && !a.draft && link_may_bind(plan, stats.total.seconds, prof)) time_as_job(plan, prof, s["plan"]);
+    // An SVG for a named profile is that device's job too (the studio exports it): timed as
+    // one where the link could hold it back, not while a control moves (--draft). A plain
+    // SVG keeps the plan's time, the peers' measure (compare.sh plans theirs the same way).
+    if (!device_job && device && !a.draft && link_may_bind(plan, stats.total.seconds, prof))
+      time_as_job(plan, prof, s["plan"]);
     const double plot_s = s["plan"]["total"]["seconds"].get<double>();
     if (searched && so.knob > 0 && plot_s > budget_s && job_redo < 3) {
       const std::pair<double, double> now{so.knob, plot_s};
