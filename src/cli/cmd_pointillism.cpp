@@ -208,6 +208,7 @@ void register_pointillism(CLI::App& app) {
       ->group("Output");
   cmd->add_option("--fidelity-sigma", args->fidelity_sigma, "Blur for --fidelity in input px (0 = 2 x radius)")
       ->capture_default_str()->group("Output");
+  m->warm_up_beside_decode(pointillism::prepare_colour_tables);
   m->define([args] { resolve(*args); },
             [args](const MethodInput& in) {
               // A hatched ebauche is thinned by spacing its lines, not by leaving out whole ones.

@@ -5,6 +5,7 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include "budget/density_search.hpp"
 #include "budget/duration.hpp"
@@ -434,7 +435,23 @@ void MethodCommand::run() const {
   if (device) placement = placement_for_device(placement, sheet_args, *device, page_given);
   LoadOptions lo;
   lo.max_pixels = a.max_pixels;
-  const Image image = load_image(a.input, lo);
+  std::thread warm_up;
+  if (warm_up_ && thread_count() > 1)
+    warm_up = std::thread([this] {
+      try {
+        warm_up_();
+      } catch (...) {  // a warm-up only: the work that needs it fails in its own place
+      }
+    });
+  const Image image = [&] {
+    struct JoinAtEnd {
+      std::thread& t;
+      ~JoinAtEnd() {
+        if (t.joinable()) t.join();
+      }
+    } join{warm_up};
+    return load_image(a.input, lo);
+  }();
   // For a device the page is turned like the photo: a landscape photo lies across it, a
   // portrait one is turned to the sheet by the layout.
   if (device && !a.place.landscape) placement.landscape = image.width > image.height;

@@ -164,6 +164,10 @@ class MethodCommand {
   // or --fidelity of its own is given a --measure here: every method's measure reports the
   // viewing-distance figures (eval/view.hpp) at --view-sigma.
   void define(std::function<void()> check, std::function<MethodDraft(const MethodInput&)> prepare);
+  // Work the method needs later that does not need the photo (OpenCV's Lab tables, built
+  // once a process in soft-float: 60 ms), run on a second thread while the photo decodes,
+  // which is serial. Nothing with one thread: it then runs where it is first needed.
+  void warm_up_beside_decode(std::function<void()> work) { warm_up_ = std::move(work); }
 
  private:
   MethodCommand() = default;
@@ -185,6 +189,7 @@ class MethodCommand {
   CLI::Option* measure_option_ = nullptr;  // the method's --measure or --fidelity
   std::function<void()> check_;
   std::function<MethodDraft(const MethodInput&)> prepare_;
+  std::function<void()> warm_up_;
 };
 
 }  // namespace stipplot::cli

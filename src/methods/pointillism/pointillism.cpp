@@ -135,6 +135,11 @@ std::vector<uint32_t> equal_disc_pds_naive(int width, int, double min_dist, cons
   return dots;
 }
 
+void prepare_colour_tables() {
+  cv::Mat px(1, 1, CV_32FC3, cv::Scalar(0.5, 0.5, 0.5)), lab;
+  cv::cvtColor(px, lab, cv::COLOR_RGB2Lab);
+}
+
 namespace {
 
 cv::Mat rgb_mat(const Image& im) {

@@ -99,6 +99,9 @@ std::vector<uint32_t> equal_disc_pds_naive(int width, int height, double min_dis
 // The method in pixel space. O(n) for blur, Lab, labels and both samplings (n pixels),
 // plus O(dots) conversions.
 Result paint(const Image& image, const Params& params);
+// Builds OpenCV's RGB→Lab tables (once a process, in soft-float: ~60 ms) before paint
+// needs them, on a thread of the caller's choosing (the photo decodes meanwhile). O(1).
+void prepare_colour_tables();
 
 // On the page. With `pens` empty: exact colours, two layers ("ebauche" beneath,
 // "divided strokes" above), every circle filled with its exact colour. With pens: every
