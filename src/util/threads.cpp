@@ -24,8 +24,11 @@ void set_thread_count(int n) {
   omp_set_num_threads(n == 0 ? omp_get_num_procs() : n);
 #endif
   // OpenCV's resizes and blurs run on a pool of their own, one thread a core unless told:
-  // --threads 1 must be one thread there too.
-  cv::setNumThreads(thread_count());
+  // --threads 1 must be one thread there too. 0 is OpenCV's "no threads": an arena of one
+  // would cap its TBB pool at one worker for the rest of the process (a later count of 2
+  // ignored, with a warning).
+  const int count = thread_count();
+  cv::setNumThreads(count > 1 ? count : 0);
 }
 
 int thread_count() {
