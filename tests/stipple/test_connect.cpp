@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "methods/stipple/connect.hpp"
+#include "util/threads.hpp"
 #include "cli_json.hpp"
 #include "test_util.hpp"
 
@@ -198,4 +199,37 @@ TEST_CASE("stipple --connect: bad parameters get one line and exit 1", "[stipple
     CHECK(r.err.find(word) != std::string::npos);
     CHECK_FALSE(std::filesystem::exists(t.file("x.svg")));
   }
+}
+
+TEST_CASE("the coverage a drawing's lines lay is measured the same on 1 and 3 threads, as much as they cover", "[stipple][connect][threads]") {
+  // 60 mm square at a 0.05 mm cell: 2,400 x 2,400 raster cells, enough for the bands to
+  // run in parallel. A grey ramp; 200 horizontal lines 0.3 mm wide, 0.25 mm apart (they
+  // overlap), and a row of 1 mm dots below them.
+  const Image img = grey_image(120, 120, [](int x, int) { return static_cast<uint8_t>(2 * x); });
+  const Placement pl = square_page(60);
+  const StippleCanvas c = prepare_stipple(img, StippleMethod::Gray, pl, 0.05);
+  Drawing d;
+  d.page = {60, 60};
+  Layer l;
+  l.pen = Pen{"black", colors::black, 0.3};
+  for (int i = 0; i < 200; ++i) l.lines.push_back(Polyline{{{5, 5 + 0.25 * i}, {55, 5 + 0.25 * i + 0.01 * i}}});
+  for (int i = 0; i < 40; ++i) l.dots.push_back(Dot{{5 + 1.25 * i, 58}, 1.0});
+  d.layers.push_back(l);
+  auto measure = [&](int threads) {
+    set_thread_count(threads);
+    const LevelCoverage cov = measured_line_coverage(c, d);
+    set_thread_count(0);
+    return cov;
+  };
+  const LevelCoverage one = measure(1), three = measure(3);
+  double cells = 0, covered = 0;
+  for (int v = 0; v < 256; ++v) {
+    CHECK(one.cells[v] == three.cells[v]);
+    CHECK(one.covered[v] == three.covered[v]);
+    cells += one.cells[v], covered += one.covered[v];
+  }
+  CHECK(cells == 2400.0 * 2400.0);
+  // The lines' band (50 mm by ~52 mm, solid where they overlap) and the dots' discs.
+  const double want = (50 * (0.25 * 199 + 0.3 + 0.01 * 199 / 2) + 40 * M_PI * 0.25) / (60.0 * 60.0);
+  CHECK(covered / cells == Approx(want).epsilon(0.03));
 }

@@ -3,6 +3,7 @@
 #include "methods/link_rule.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -10,6 +11,7 @@
 #include "plan/tour.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
+#include "util/threads.hpp"
 
 namespace stipplot {
 
@@ -238,40 +240,69 @@ LevelCoverage measured_line_coverage(const StippleCanvas& c, const Drawing& d) {
   const int S = 2;  // raster cells a grid cell, each way
   const int rw = w * S, rh = h * S;
   const double px = c.grid.cell_mm / S;
-  std::vector<uint8_t> ink(static_cast<size_t>(rw) * static_cast<size_t>(rh));
   auto to_raster = [&](Vec2 q) { return Vec2{(q.x - c.grid.origin_mm.x) / px, (q.y - c.grid.origin_mm.y) / px}; };
-  // A capsule: every raster cell whose centre lies within `r` of the segment a-b.
-  auto capsule = [&](Vec2 a, Vec2 b, double r) {
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min(a.x, b.x) - r))),
-              x1 = std::min(rw - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + r)));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min(a.y, b.y) - r))),
-              y1 = std::min(rh - 1, static_cast<int>(std::ceil(std::max(a.y, b.y) + r)));
-    const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy, r2 = r * r;
-    for (int y = y0; y <= y1; ++y)
-      for (int x = x0; x <= x1; ++x) {
-        const double qx = x + 0.5 - a.x, qy = y + 0.5 - a.y;
-        const double t = l2 > 0 ? std::clamp((qx * dx + qy * dy) / l2, 0.0, 1.0) : 0;
-        const double ex = qx - t * dx, ey = qy - t * dy;
-        if (ex * ex + ey * ey <= r2) ink[static_cast<size_t>(y) * static_cast<size_t>(rw) + static_cast<size_t>(x)] = 1;
-      }
+  // Every mark as a capsule in raster cells: a segment a-b and a radius.
+  struct Capsule {
+    Vec2 a, b;
+    double r;
   };
+  std::vector<Capsule> caps;
   for (const Layer& l : d.layers) {
     const double r = 0.5 * l.pen.width_mm / px;
     for (const Polyline& pl : l.lines)
-      for (size_t i = 1; i < pl.pts.size(); ++i) capsule(to_raster(pl.pts[i - 1]), to_raster(pl.pts[i]), r);
+      for (size_t i = 1; i < pl.pts.size(); ++i) caps.push_back({to_raster(pl.pts[i - 1]), to_raster(pl.pts[i]), r});
     for (const Dot& dot : l.dots) {
       const Vec2 q = to_raster(dot.c);
-      capsule(q, q, 0.5 * std::max(dot.diameter, l.pen.width_mm) / px);
+      caps.push_back({q, q, 0.5 * std::max(dot.diameter, l.pen.width_mm) / px});
+    }
+  }
+  // Bands of rows, each painted and counted on its own (a cell is inked by any capsule
+  // over it, whichever paints it; the counts are whole numbers): the same on any thread
+  // count.
+  constexpr int kBandRows = 64;
+  const int bands = (rh + kBandRows - 1) / kBandRows;
+  std::vector<LevelCoverage> per_band(static_cast<size_t>(bands));
+  const auto& plane = c.planes[c.passes[0].plane];
+#pragma omp parallel num_threads(thread_count()) if (static_cast<size_t>(rw) * static_cast<size_t>(rh) >= 1'000'000)
+  {
+    std::vector<uint8_t> ink;
+#pragma omp for schedule(dynamic, 1)
+    for (int band = 0; band < bands; ++band) {
+      const int by0 = band * kBandRows, by1 = std::min(rh, by0 + kBandRows);  // rows [by0, by1)
+      ink.assign(static_cast<size_t>(by1 - by0) * static_cast<size_t>(rw), 0);
+      for (const Capsule& cap : caps) {
+        const Vec2 a = cap.a, b = cap.b;
+        const double r = cap.r;
+        const int y0 = std::max(by0, static_cast<int>(std::floor(std::min(a.y, b.y) - r))),
+                  y1 = std::min(by1 - 1, static_cast<int>(std::ceil(std::max(a.y, b.y) + r)));
+        if (y0 > y1) continue;
+        const int x0 = std::max(0, static_cast<int>(std::floor(std::min(a.x, b.x) - r))),
+                  x1 = std::min(rw - 1, static_cast<int>(std::ceil(std::max(a.x, b.x) + r)));
+        // Every raster cell whose centre lies within r of the segment a-b.
+        const double dx = b.x - a.x, dy = b.y - a.y, l2 = dx * dx + dy * dy, r2 = r * r;
+        for (int y = y0; y <= y1; ++y)
+          for (int x = x0; x <= x1; ++x) {
+            const double qx = x + 0.5 - a.x, qy = y + 0.5 - a.y;
+            const double t = l2 > 0 ? std::clamp((qx * dx + qy * dy) / l2, 0.0, 1.0) : 0;
+            const double ex = qx - t * dx, ey = qy - t * dy;
+            if (ex * ex + ey * ey <= r2) ink[static_cast<size_t>(y - by0) * static_cast<size_t>(rw) + static_cast<size_t>(x)] = 1;
+          }
+      }
+      std::array<uint64_t, 256> cells{}, covered{};
+      for (int y = by0; y < by1; ++y)
+        for (int x = 0; x < rw; ++x) {
+          const uint8_t v = plane[static_cast<size_t>(y / S) * static_cast<size_t>(w) + static_cast<size_t>(x / S)];
+          cells[v] += 1;
+          covered[v] += ink[static_cast<size_t>(y - by0) * static_cast<size_t>(rw) + static_cast<size_t>(x)];
+        }
+      for (size_t v = 0; v < 256; ++v)
+        per_band[static_cast<size_t>(band)].cells[v] = static_cast<double>(cells[v]),
+                                    per_band[static_cast<size_t>(band)].covered[v] = static_cast<double>(covered[v]);
     }
   }
   LevelCoverage out;
-  const auto& plane = c.planes[c.passes[0].plane];
-  for (int y = 0; y < rh; ++y)
-    for (int x = 0; x < rw; ++x) {
-      const uint8_t v = plane[static_cast<size_t>(y / S) * static_cast<size_t>(w) + static_cast<size_t>(x / S)];
-      out.cells[v] += 1;
-      out.covered[v] += ink[static_cast<size_t>(y) * static_cast<size_t>(rw) + static_cast<size_t>(x)];
-    }
+  for (const LevelCoverage& band : per_band)
+    for (size_t v = 0; v < 256; ++v) out.cells[v] += band.cells[v], out.covered[v] += band.covered[v];
   return out;
 }
 

@@ -95,7 +95,8 @@ bool connect_link_lifted(const StippleCanvas& c, const pds::RadiusTable& radius,
 Drawing connect_on_page(const StippleCanvas& c, const ConnectParams& p, ConnectStats* stats = nullptr);
 
 // What a drawing's lines and dots cover of each level of the canvas's single pass:
-// rasterised at half a cell, lines as capsules of the pen's width. O(cells + ink area).
+// rasterised at half a cell, lines as capsules of the pen's width, in bands of rows on
+// every thread. O(cells + ink area + marks x bands).
 LevelCoverage measured_line_coverage(const StippleCanvas& c, const Drawing& d);
 
 }  // namespace stipplot
