@@ -12,19 +12,24 @@ extern char** environ;
 
 namespace stipplot {
 
-std::filesystem::path executable_dir() {
-  char buf[4096];
+namespace {
+// The running program's path, empty when /proc/self/exe cannot be read.
+std::string read_self_exe() {
+  char buf[PATH_MAX];
   const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
-  if (n <= 0) return {};
-  buf[n] = '\0';
-  return std::filesystem::path(buf).parent_path();
+  return n > 0 ? std::string(buf, static_cast<size_t>(n)) : std::string();
+}
+}  // namespace
+
+std::filesystem::path executable_dir() {
+  const std::string self = read_self_exe();
+  return self.empty() ? std::filesystem::path() : std::filesystem::path(self).parent_path();
 }
 
 std::string self_executable() {
-  char buf[PATH_MAX];
-  const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
-  if (n <= 0) throw std::runtime_error("cannot find the running executable (/proc/self/exe)");
-  return std::string(buf, static_cast<size_t>(n));
+  std::string self = read_self_exe();
+  if (self.empty()) throw std::runtime_error("cannot find the running executable (/proc/self/exe)");
+  return self;
 }
 
 std::vector<std::string> environment_on_huge_pages() {
