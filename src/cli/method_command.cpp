@@ -551,8 +551,8 @@ void MethodCommand::run() const {
                                 : Drawing{};
     write_outputs(r, lay_out ? &out : nullptr, mr, s);
     // An SVG for a named profile is that device's job too (the studio exports it): timed as
-    // one where the link could hold it back, not while a control moves (--draft). A plain
-    // SVG keeps the plan's time, the peers' measure (compare.sh plans theirs the same way).
+    // one where the link could hold it back, not while a control moves (--draft). An SVG
+    // without --profile is not yet for a device: the plan's time.
     if (!device_job && device && !a.draft && link_may_bind(plan, stats.total.seconds, prof))
       time_as_job(plan, prof, s["plan"]);
     const double plot_s = s["plan"]["total"]["seconds"].get<double>();
