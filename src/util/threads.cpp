@@ -39,4 +39,12 @@ int thread_count() {
 #endif
 }
 
+bool in_parallel_part() {
+#ifdef _OPENMP
+  return omp_in_parallel() != 0;
+#else
+  return false;
+#endif
+}
+
 }  // namespace stipplot

@@ -11,5 +11,7 @@ namespace stipplot {
 void set_thread_count(int n);
 // The threads a parallel part uses now (1 without OpenMP).
 int thread_count();
+// True inside a parallel part's threads: a part called from there runs on its caller's thread.
+bool in_parallel_part();
 
 }  // namespace stipplot

@@ -152,3 +152,48 @@ TEST_CASE("a plan of long strokes is timed the same bit for bit on 1 and 3 threa
   REQUIRE(three.layer_seconds.size() == 2);
   CHECK(std::memcmp(one.layer_seconds.data(), three.layer_seconds.data(), 2 * sizeof(double)) == 0);
 }
+
+TEST_CASE("one very long polyline is timed in pieces the same bit for bit as in one pass", "[motion][threads]") {
+  // Wiggles (corners that cap the speed), long straight runs (where only the window's end
+  // does, so a piece's two bounds meet late or never), repeated points and reversals; the
+  // one-pass timing (the blocks kept, which never goes in pieces) is the reference.
+  uint64_t state = 7;
+  auto next = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  std::vector<Vec2> pts;
+  double x = 100, y = 100, heading = 0;
+  while (pts.size() < 200000) {
+    const int kind = static_cast<int>(next() * 4);
+    const int n = 1 + static_cast<int>(next() * 30000);
+    for (int i = 0; i < n; ++i) {
+      if (kind == 0) heading += (next() - 0.5) * 0.8;                // wiggle
+      if (kind == 2 && i % 50 == 0) pts.push_back(pts.empty() ? Vec2{x, y} : pts.back());  // a repeated point
+      if (kind == 3 && i % 997 == 0) heading += 3.14159265358979;     // a reversal
+      const double step = kind == 1 ? 2.0 : 0.05 + next() * 0.3;      // kind 1: a straight run
+      x = std::clamp(x + step * std::cos(heading), 0.0, 400.0);
+      y = std::clamp(y + step * std::sin(heading), 0.0, 290.0);
+      pts.push_back({x, y});
+    }
+  }
+  MotionParams m;
+  std::vector<MotionBlock> blocks;
+  const double one_pass = polyline_seconds(pts, 40, m, &blocks);
+  REQUIRE(blocks.size() > 100000);
+  for (const int threads : {1, 2, 3}) {
+    set_thread_count(threads);
+    const double t = polyline_seconds(pts, 40, m);
+    CAPTURE(threads);
+    CHECK(std::memcmp(&t, &one_pass, sizeof(double)) == 0);
+  }
+  // The same ahead of the pieces' edges: a polyline that starts with repeated points.
+  std::vector<Vec2> lead(20000, pts.front());
+  lead.insert(lead.end(), pts.begin(), pts.begin() + 100000);
+  blocks.clear();
+  const double lead_one_pass = polyline_seconds(lead, 40, m, &blocks);
+  set_thread_count(2);
+  const double lead_pieces = polyline_seconds(lead, 40, m);
+  set_thread_count(0);
+  CHECK(std::memcmp(&lead_pieces, &lead_one_pass, sizeof(double)) == 0);
+}
