@@ -30,14 +30,19 @@ void write(const Plan& plan, tinyxml2::XMLPrinter& p, const PlannedSvgOptions& o
     ++index;
     const std::string colour = layer.pen.color.hex();
     open_pen_layer(p, index, layer.pen, opt.decimals);
+    // Strokes in plot order: the lines between two dots go out together.
+    std::vector<const std::vector<Vec2>*> lines;
     for (const auto& s : layer.strokes) {
       if (s.pts.empty()) continue;
       if (s.pts.size() == 1) {
+        push_lines(p, lines, LineElement::path, opt.decimals);
+        lines.clear();
         push_filled_circle(p, s.pts[0], layer.pen.width_mm / 2, colour, opt.decimals);
         continue;
       }
-      push_line(p, s.pts, LineElement::path, opt.decimals, d);
+      lines.push_back(&s.pts);
     }
+    push_lines(p, lines, LineElement::path, opt.decimals);
     p.CloseElement();
   }
 

@@ -1,8 +1,13 @@
 #include "svg/svg_document.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
+#include <string>
+#include <vector>
 
 #include "svg/svg_writer.hpp"
+#include "util/threads.hpp"
 
 namespace stipplot {
 
@@ -65,24 +70,104 @@ void push_filled_circle(tinyxml2::XMLPrinter& p, Vec2 c, double r, const std::st
   p.CloseElement(true);
 }
 
-void push_line(tinyxml2::XMLPrinter& p, const std::vector<Vec2>& pts, LineElement as, int decimals, std::string& scratch) {
-  for (size_t from = 0; from < pts.size();) {
-    const size_t to = std::min(pts.size(), from + kMaxElementPoints);
-    scratch.clear();
-    if (as == LineElement::path) scratch += 'M';
-    for (size_t i = from; i < to; ++i) {
-      if (as == LineElement::path && i == from + 1) scratch += " L";
-      if (as == LineElement::path || i > from) scratch += ' ';
-      append_number(scratch, pts[i].x, decimals);
-      scratch += ',';
-      append_number(scratch, pts[i].y, decimals);
-    }
-    p.OpenElement(as == LineElement::path ? "path" : "polyline");
-    p.PushAttribute(as == LineElement::path ? "d" : "points", scratch.c_str());
-    p.CloseElement(true);
-    if (to == pts.size()) break;
+namespace {
+
+// Points [from, to) of a line as one element's attribute text.
+void format_piece(const Vec2* pts, size_t from, size_t to, LineElement as, int decimals, std::string& out) {
+  out.clear();
+  if (as == LineElement::path) out += 'M';
+  for (size_t i = from; i < to; ++i) {
+    if (as == LineElement::path && i == from + 1) out += " L";
+    if (as == LineElement::path || i > from) out += ' ';
+    append_number(out, pts[i].x, decimals);
+    out += ',';
+    append_number(out, pts[i].y, decimals);
+  }
+}
+
+void push_element(tinyxml2::XMLPrinter& p, LineElement as, const std::string& text) {
+  p.OpenElement(as == LineElement::path ? "path" : "polyline");
+  p.PushAttribute(as == LineElement::path ? "d" : "points", text.c_str());
+  p.CloseElement(true);
+}
+
+// Calls f(from, to) for each element a line of n points is split into.
+template <class F>
+void for_each_piece(size_t n, F&& f) {
+  for (size_t from = 0; from < n;) {
+    const size_t to = std::min(n, from + kMaxElementPoints);
+    f(from, to);
+    if (to == n) break;
     from = to - 1;  // the next piece starts where this one ends
   }
+}
+
+}  // namespace
+
+void push_line(tinyxml2::XMLPrinter& p, const std::vector<Vec2>& pts, LineElement as, int decimals, std::string& scratch) {
+  for_each_piece(pts.size(), [&](size_t from, size_t to) {
+    format_piece(pts.data(), from, to, as, decimals, scratch);
+    push_element(p, as, scratch);
+  });
+}
+
+void push_lines(tinyxml2::XMLPrinter& p, const std::vector<const std::vector<Vec2>*>& lines, LineElement as, int decimals) {
+  struct Piece {
+    const Vec2* pts;
+    size_t from, to;
+  };
+  std::vector<Piece> pieces;
+  size_t points = 0;
+  for (const auto* line : lines)
+    for_each_piece(line->size(), [&](size_t from, size_t to) {
+      pieces.push_back({line->data(), from, to});
+      points += to - from;
+    });
+  // Below this a thread costs more than it saves (a drawing of a few thousand points).
+  constexpr size_t kWorthAThread = 50'000, kBatch = 256;  // elements: <= 256,000 points a batch
+  if (thread_count() < 2 || points < kWorthAThread) {
+    std::string scratch;
+    for (const Piece& pc : pieces) {
+      format_piece(pc.pts, pc.from, pc.to, as, decimals, scratch);
+      push_element(p, as, scratch);
+    }
+    return;
+  }
+  // Two batches of text: the threads fill one while this one writes the other.
+  std::vector<std::string> text[2] = {std::vector<std::string>(kBatch), std::vector<std::string>(kBatch)};
+  const size_t batches = (pieces.size() + kBatch - 1) / kBatch;
+  std::exception_ptr failed;  // the first formatting error (a non-finite coordinate)
+  std::atomic<bool> any_failed{false};
+  auto format = [&](size_t k) {
+    const Piece& pc = pieces[k];
+    format_piece(pc.pts, pc.from, pc.to, as, decimals, text[(k / kBatch) % 2][k % kBatch]);
+  };
+  for (size_t k = 0; k < std::min(kBatch, pieces.size()); ++k) format(k);
+#pragma omp parallel num_threads(thread_count())
+  {
+    // Every thread goes through every batch (a thread may not leave a team's loop alone).
+    for (size_t b = 0; b < batches; ++b) {
+#pragma omp master
+      if (!any_failed) {  // thread 0 writes batch b while the others format batch b + 1
+        const size_t first = b * kBatch, last = std::min(pieces.size(), first + kBatch);
+        for (size_t k = first; k < last; ++k) push_element(p, as, text[b % 2][k - first]);
+      }
+      const long first = static_cast<long>((b + 1) * kBatch);
+      const long last = static_cast<long>(std::min(pieces.size(), (b + 2) * kBatch));
+#pragma omp for schedule(dynamic, 8)
+      for (long k = first; k < last; ++k) {
+        if (any_failed) continue;
+        try {
+          format(static_cast<size_t>(k));
+        } catch (...) {
+#pragma omp critical(svg_format_failure)
+          if (!failed) failed = std::current_exception();
+          any_failed = true;
+        }
+      }  // (the loop's end waits for every thread, thread 0 too: batch b + 1 is complete)
+    }
+  }
+  if (failed) std::rethrow_exception(failed);
 }
 
 }  // namespace stipplot

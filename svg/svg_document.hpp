@@ -39,6 +39,10 @@ inline constexpr size_t kMaxElementPoints = 1'000;
 // reused between calls. O(points).
 enum class LineElement { polyline, path };
 void push_line(tinyxml2::XMLPrinter& p, const std::vector<Vec2>& pts, LineElement as, int decimals, std::string& scratch);
+// Lines one after another, each as push_line writes it; their numbers are formatted on
+// every thread (util/threads.hpp) in batches of elements while this thread writes the
+// batch before: the same text on any thread count. Empty lines are skipped. O(points).
+void push_lines(tinyxml2::XMLPrinter& p, const std::vector<const std::vector<Vec2>*>& lines, LineElement as, int decimals);
 
 // A filled disc without outline (<circle ... fill stroke="none"/>): a dot of ink.
 void push_filled_circle(tinyxml2::XMLPrinter& p, Vec2 c, double r, const std::string& fill, int decimals);

@@ -77,11 +77,10 @@ void write(const Drawing& d, tinyxml2::XMLPrinter& p, const SvgOptions& opt) {
       p.PushAttribute("r", num(c.r).c_str());
       p.CloseElement(true);
     }
-    std::string pts;
-    for (const auto& pl : layer.lines) {
-      if (pl.pts.empty()) continue;
-      push_line(p, pl.pts, LineElement::polyline, opt.decimals, pts);
-    }
+    std::vector<const std::vector<Vec2>*> lines;
+    for (const auto& pl : layer.lines)
+      if (!pl.pts.empty()) lines.push_back(&pl.pts);
+    push_lines(p, lines, LineElement::polyline, opt.decimals);
     for (const auto& a : layer.areas) push_area(p, a, opt.decimals);
     p.CloseElement();
   }

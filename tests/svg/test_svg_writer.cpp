@@ -5,10 +5,12 @@
 
 #include "methods/stipple/stipple.hpp"
 #include "plan/planner.hpp"
+#include "svg/planned_svg.hpp"
 #include "svg/svg_document.hpp"
 #include "svg/svg_reader.hpp"
 #include "svg/svg_writer.hpp"
 #include "test_util.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 
@@ -101,4 +103,43 @@ TEST_CASE("a line of more points than an element holds is written as consecutive
   REQUIRE(plan.layers.size() == 1);
   CHECK(plan.layers[0].strokes.size() == 1);
   CHECK(plan.layers[0].strokes[0].pts.size() == 2500);
+}
+
+TEST_CASE("a large drawing and its plan are written as the same text on 1 and 3 threads", "[svg][threads]") {
+  // Enough points for the numbers to be formatted on several threads (batches of 256
+  // elements): long lines split into elements, short lines, and in the plan dots between
+  // them (a dot ends a run of lines).
+  Drawing d;
+  d.page = Page{300, 300};
+  Layer l;
+  l.pen = Pen{"black", colors::black, 0.3};
+  uint64_t state = 3;
+  auto next = [&] {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) / 9007199254740992.0;
+  };
+  for (int k = 0; k < 900; ++k) {
+    Polyline pl;
+    const int n = k % 50 == 0 ? 9000 : k % 7 == 0 ? 1 : 2 + k % 300;
+    for (int i = 0; i < n; ++i) pl.pts.push_back({10 + next() * 280, 10 + next() * 280});
+    l.lines.push_back(pl);
+  }
+  d.layers.push_back(l);
+  Plan plan;
+  plan.page = d.page;
+  plan.layers.resize(1);
+  plan.layers[0].pen = l.pen;
+  for (const auto& pl : l.lines) plan.layers[0].strokes.push_back(Stroke{pl.pts});
+  set_thread_count(1);
+  const std::string one = svg_string(d), plan_one = planned_svg_string(plan);
+  set_thread_count(3);
+  const std::string three = svg_string(d), plan_three = planned_svg_string(plan);
+  // A coordinate that is not a number fails the write on the threads too, as on one.
+  d.layers[0].lines[600].pts[5].x = std::nan("");
+  CHECK_THROWS_AS(svg_string(d), std::logic_error);
+  set_thread_count(0);
+  CHECK(one.size() > 2'000'000);
+  CHECK(one == three);
+  CHECK(plan_one == plan_three);
+  CHECK(plan_one.find("<circle") != std::string::npos);
 }
