@@ -9,11 +9,14 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <numeric>
 #include <vector>
 
 #include "geometry/drawing.hpp"
 #include "spatial/kdtree.hpp"
+#include "util/threads.hpp"
 
 namespace stipplot::spatial {
 
@@ -41,8 +44,10 @@ struct EuclideanCost {
 // lying in one component are skipped; a search stops at its component's best cost so
 // far. Ties are broken by (cost, lower tree position, higher tree position), so the
 // rounds never close a cycle and the result does not depend on visiting order.
-// Time O(n log n) to build plus O(log n) rounds of near-logarithmic queries on
-// well-spread points; memory O(n). Returns n - 1 edges (none for n < 2).
+// A round's searches run on every thread (util/threads.hpp) from 20,000 points: the same
+// edges in the same order on any count. Time O(n log n) to build plus O(log n) rounds of
+// near-logarithmic queries on well-spread points; memory O(n). Returns n - 1 edges (none
+// for n < 2).
 template <int D, class T, class C>
 std::vector<Edge> boruvka_mst(const KdTree<D, T>& tree, const C& cost, MstStats* stats = nullptr);
 
@@ -158,6 +163,10 @@ std::vector<Edge> boruvka_mst(const KdTree<D, T>& t, const C& cost, MstStats* st
     const uint32_t lo = std::min(i, j), hi = std::max(i, j);
     if (c < b.c || (c == b.c && (lo < b.lo || (lo == b.lo && hi < b.hi)))) b = {c, lo, hi};
   };
+  // Below this many points a round's searches take less than starting threads.
+  constexpr size_t kWorthThreads = 20'000, kLocks = 4096;
+  const bool parallel = n >= kWorthThreads && thread_count() > 1 && !in_parallel_part();
+  std::unique_ptr<std::mutex[]> locks(parallel ? new std::mutex[kLocks] : nullptr);
   while (ncomp > 1) {
     ++st.rounds;
     for (uint32_t i = 0; i < n; ++i) comp[i] = static_cast<int32_t>(uf.find(i));
@@ -170,20 +179,58 @@ std::vector<Edge> boruvka_mst(const KdTree<D, T>& t, const C& cost, MstStats* st
       else
         nn[i] = kNone;
     }
-    for (uint32_t i = 0; i < n; ++i) {
-      if (nn[i] != kNone) continue;
-      const Best& b = best[static_cast<size_t>(comp[i])];
-      if (nnd[i] > b.c) continue;  // cannot beat the component's best
-      s.q = i, s.qc = comp[i], s.qp = t.point(i);
-      s.best = b.c, s.blo = b.lo, s.bhi = b.hi, s.bj = kNone;
-      ++st.queries;
-      s.visit(0);
-      if (s.bj != kNone) {
-        nn[i] = s.bj, nnd[i] = s.best;
-        offer(comp[i], s.best, i, s.bj);
-      } else {
-        nnd[i] = std::max(nnd[i], b.c);
+    if (!parallel) {
+      for (uint32_t i = 0; i < n; ++i) {
+        if (nn[i] != kNone) continue;
+        const Best& b = best[static_cast<size_t>(comp[i])];
+        if (nnd[i] > b.c) continue;  // cannot beat the component's best
+        s.q = i, s.qc = comp[i], s.qp = t.point(i);
+        s.best = b.c, s.blo = b.lo, s.bhi = b.hi, s.bj = kNone;
+        ++st.queries;
+        s.visit(0);
+        if (s.bj != kNone) {
+          nn[i] = s.bj, nnd[i] = s.best;
+          offer(comp[i], s.best, i, s.bj);
+        } else {
+          nnd[i] = std::max(nnd[i], b.c);
+        }
       }
+    } else {
+      // The same searches on every thread, each bounded by its component's best as it
+      // stands when the search starts (read and offered under the component's lock). A
+      // bound is always an edge the component has, so each component still ends the round
+      // with its cheapest edge under (cost, lower, higher): the same tree bit for bit;
+      // only how many searches run (the stats) depends on the threads' timing.
+      size_t queries = 0;
+#pragma omp parallel num_threads(thread_count()) reduction(+ : queries)
+      {
+        detail::ForeignSearch<D, T, C> ts{t, comp, node_comp, cost};
+#pragma omp for schedule(dynamic, 256)
+        for (long k = 0; k < static_cast<long>(n); ++k) {
+          const uint32_t i = static_cast<uint32_t>(k);
+          if (nn[i] != kNone) continue;
+          const size_t r = static_cast<size_t>(comp[i]);
+          std::mutex& m = locks[r % kLocks];
+          Best b;
+          {
+            std::lock_guard<std::mutex> g(m);
+            b = best[r];
+          }
+          if (nnd[i] > b.c) continue;  // cannot beat the component's best
+          ts.q = i, ts.qc = comp[i], ts.qp = t.point(i);
+          ts.best = b.c, ts.blo = b.lo, ts.bhi = b.hi, ts.bj = kNone;
+          ++queries;
+          ts.visit(0);
+          if (ts.bj != kNone) {
+            nn[i] = ts.bj, nnd[i] = ts.best;
+            std::lock_guard<std::mutex> g(m);
+            offer(comp[i], ts.best, i, ts.bj);
+          } else {
+            nnd[i] = std::max(nnd[i], b.c);
+          }
+        }
+      }
+      st.queries += queries;
     }
     const size_t before = ncomp;
     for (uint32_t r = 0; r < n; ++r) {

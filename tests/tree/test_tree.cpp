@@ -17,6 +17,7 @@
 #include "test_util.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 using namespace stipplot::tree;
@@ -112,6 +113,38 @@ TEST_CASE("fast MST handles degenerate inputs", "[tree][mst]") {
   for (Distance k : {Distance::ED, Distance::BD, Distance::SIBD}) {
     c.kind = k;
     require_same_weight(line, c);
+  }
+}
+
+TEST_CASE("fast MST is the same tree edge for edge on 1 and 3 threads, ties and all", "[tree][mst][threads]") {
+  // Above the size where the searches go to threads; integer coordinates make many equal
+  // costs, which the tie order must settle the same whoever searches first.
+  Rng rng(7);
+  for (const bool integer : {true, false}) {
+    PointSet pts;
+    for (int i = 0; i < 40000; ++i) {
+      const float x = integer ? float(rng.below(300)) : float(rng.uniform() * 300);
+      const float y = integer ? float(rng.below(300)) : float(rng.uniform() * 300);
+      pts.push(x, y, integer ? float(rng.below(4) * 60) : float(rng.uniform() * 255));
+    }
+    for (Distance kind : {Distance::ED, Distance::BD, Distance::SIBD}) {
+      CostParams c;
+      c.kind = kind;
+      c.alpha = 0.7;
+      c.h = 500;
+      set_thread_count(1);
+      const auto one = mst_exact(pts, c);
+      set_thread_count(3);
+      const auto three = mst_exact(pts, c);
+      set_thread_count(0);
+      INFO("integer=" << integer << " cost=" << to_string(kind));
+      REQUIRE(one.size() == pts.size() - 1);
+      REQUIRE(three.size() == one.size());
+      bool same = true;
+      for (size_t k = 0; k < one.size(); ++k)
+        same = same && one[k].a == three[k].a && one[k].b == three[k].b && one[k].cost == three[k].cost;
+      CHECK(same);
+    }
   }
 }
 
