@@ -12,6 +12,7 @@
 #include "methods/palette.hpp"
 #include "test_util.hpp"
 #include "util/error.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 using namespace stipplot::hatch;
@@ -162,6 +163,32 @@ TEST_CASE("hatch: zig-zags join a region's lines and never leave it", "[hatch]")
   // A plain square: one stroke.
   Mask sq{40, 40, std::vector<uint8_t>(1600, 1)};
   CHECK(hatch_mask(sq, LineSet{45, 2, 10}).size() == 1);
+}
+
+TEST_CASE("hatch: a large region's lines are the same on 1 and 3 threads", "[hatch][threads]") {
+  // Enough samples for the lines' runs to be found on several threads: blobs and holes.
+  const int W = 900, H = 700;
+  Mask m{W, H, std::vector<uint8_t>(size_t(W) * H, 0)};
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x)
+      m.in[size_t(y) * W + x] = std::sin(x * 0.031) * std::cos(y * 0.047) + 0.3 * std::sin((x + y) * 0.11) > 0.1 ? 1 : 0;
+  for (const double angle : {0.0, 22.5, 90.0, 135.0}) {
+    const LineSet set{angle, 2.5, 10};
+    set_thread_count(1);
+    const auto one = hatch_mask(m, set);
+    set_thread_count(3);
+    const auto three = hatch_mask(m, set);
+    set_thread_count(0);
+    INFO("angle " << angle);
+    REQUIRE(one.size() > 100);
+    REQUIRE(three.size() == one.size());
+    bool same = true;
+    for (size_t k = 0; k < one.size() && same; ++k) {
+      same = one[k].size() == three[k].size();
+      for (size_t i = 0; same && i < one[k].size(); ++i) same = one[k][i].x == three[k][i].x && one[k][i].y == three[k][i].y;
+    }
+    CHECK(same);
+  }
 }
 
 TEST_CASE("hatch: the same input gives the same drawing", "[hatch]") {

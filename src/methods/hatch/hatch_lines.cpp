@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "util/threads.hpp"
+
 namespace stipplot::hatch {
 
 bool Mask::inside(double cx, double cy) const {
@@ -94,9 +96,18 @@ std::vector<std::vector<Vec2>> hatch_mask(const Mask& m, const LineSet& s) {
   std::vector<Chain> open;  // chains ending on the previous line, in the order of their runs
   const long i0 = static_cast<long>(std::ceil(t_lo / s.spacing - 0.5));
   const long i1 = static_cast<long>(std::floor(t_hi / s.spacing - 0.5));
+  // Each line's runs on every thread (each line sampled as one pass would), then linked
+  // line by line in order.
+  const long lines = std::max(0L, i1 - i0 + 1);
+  std::vector<std::vector<Run>> line_runs(static_cast<size_t>(lines));
+  const double samples = static_cast<double>(lines) * (a_hi - a_lo) / kStep;
+  const bool threads = samples > 200'000 && thread_count() > 1 && !in_parallel_part();
+#pragma omp parallel for schedule(dynamic, 8) num_threads(thread_count()) if (threads)
+  for (long i = i0; i <= i1; ++i)
+    line_runs[static_cast<size_t>(i - i0)] = runs_on_line(m, f, (static_cast<double>(i) + 0.5) * s.spacing, a_lo, a_hi);
   for (long i = i0; i <= i1; ++i) {
     const double t = (static_cast<double>(i) + 0.5) * s.spacing;
-    const std::vector<Run> runs = runs_on_line(m, f, t, a_lo, a_hi);
+    const std::vector<Run> runs = std::move(line_runs[static_cast<size_t>(i - i0)]);
     std::vector<double> ends(open.size());
     for (size_t k = 0; k < open.size(); ++k) ends[k] = open[k].end_a;  // sorted: runs are disjoint
     std::vector<uint8_t> taken(open.size(), 0);
