@@ -1,8 +1,11 @@
-// Whole method commands (stipple, tree, sketch, pointillism) on a 12-megapixel photo (coffee.png upscaled), each with its
-// plot-time budget search (the default --time 1h), run in this process with --threads 1
-// (the baseline) and --threads 2: wall-clock time, so the ratio is the speed-up the
-// parallel parts give (util/threads.hpp). The output is the same bit for bit for both
-// (tests "[threads]"). Run on a quiet machine: a busy core takes the second thread's time.
+// Whole method commands (stipple, tree, sketch, pointillism) on a 12-megapixel photo (coffee.png upscaled), as a PNG
+// (argument 0) and as a JPEG (1), each with its plot-time budget search (the default
+// --time 1h), run in this process with --threads 1 (the baseline) and --threads 2:
+// wall-clock time, so the ratio is the speed-up the parallel parts give
+// (util/threads.hpp). The output is the same bit for bit for both (tests "[threads]").
+// The photo's decoding is timed alone too: no thread shortens it, so each command's
+// CEILING line is the most two threads could give it (Amdahl). Run on a quiet machine: a
+// busy core takes the second thread's time.
 //   ./build/bench/bench_threads
 #include <filesystem>
 #include <string>
@@ -18,9 +21,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+const std::string& photo(int64_t jpeg) { return jpeg ? stipplot::bench::photo_12mp_jpeg() : stipplot::bench::photo_12mp(); }
+
+// Arguments: threads, and the photo (0 = PNG, 1 = JPEG).
 void whole_command(benchmark::State& state, const char* method) {
   const std::string out = (fs::temp_directory_path() / (std::string("stipplot_bench_threads_") + method + ".svg")).string();
-  const std::vector<std::string> args = {method, stipplot::bench::photo_12mp(), "-o", out, "-q", "--threads",
+  const std::vector<std::string> args = {method, photo(state.range(1)), "-o", out, "-q", "--threads",
                                          std::to_string(state.range(0))};
   // Once untimed: the first run in a process pays for the heap's pages, which every later
   // run reuses; without it the count run first (1) would carry that cost alone.
@@ -32,14 +38,30 @@ void BM_Tree(benchmark::State& s) { whole_command(s, "tree"); }
 void BM_Sketch(benchmark::State& s) { whole_command(s, "sketch"); }
 void BM_Pointillism(benchmark::State& s) { whole_command(s, "pointillism"); }
 
+// The photo's decoding alone (stb_image: one thread, as every decoder of these formats),
+// the part of each command no thread count shortens.
+void BM_Decode(benchmark::State& state) {
+  const std::string& path = photo(state.range(0));
+  benchmark::DoNotOptimize(stipplot::load_image(path).rgb.data());
+  for (auto _ : state) benchmark::DoNotOptimize(stipplot::load_image(path).rgb.data());
+}
+
 }  // namespace
 
-BENCHMARK(BM_Stipple)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK(BM_Tree)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK(BM_Sketch)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK(BM_Pointillism)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_Decode)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_Stipple)->ArgsProduct({{1, 2}, {0, 1}})->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_Tree)->ArgsProduct({{1, 2}, {0, 1}})->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_Sketch)->ArgsProduct({{1, 2}, {0, 1}})->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_Pointillism)->ArgsProduct({{1, 2}, {0, 1}})->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
 
-STIPPLOT_BENCH_MAIN_AS_CLI({{"BM_Stipple/2", "BM_Stipple/1"},
-                            {"BM_Tree/2", "BM_Tree/1"},
-                            {"BM_Sketch/2", "BM_Sketch/1"},
-                            {"BM_Pointillism/2", "BM_Pointillism/1"}})
+int main(int argc, char** argv) {
+  stipplot::rerun_on_huge_pages(argv);
+  std::vector<std::pair<std::string, std::string>> pairs, ceilings;
+  for (const char* m : {"BM_Stipple", "BM_Tree", "BM_Sketch", "BM_Pointillism"})
+    for (const char* photo : {"0", "1"}) {
+      const std::string one = std::string(m) + "/1/" + photo;
+      pairs.push_back({std::string(m) + "/2/" + photo, one});
+      ceilings.push_back({one, std::string("BM_Decode/") + photo});
+    }
+  return stipplot::bench::run_benchmarks(argc, argv, pairs, ceilings);
+}

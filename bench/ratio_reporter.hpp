@@ -18,6 +18,9 @@ class RatioReporter : public benchmark::ConsoleReporter {
  public:
   explicit RatioReporter(std::vector<std::pair<std::string, std::string>> pairs)
       : ConsoleReporter(isatty(STDOUT_FILENO) ? OO_Defaults : OO_Tabular), pairs_(std::move(pairs)) {}
+  // Also, for each (one-thread run, its serial part), the most two threads could give it:
+  // Amdahl's T1 / (S + (T1 - S) / 2), were all but the serial part halved.
+  void add_ceilings(std::vector<std::pair<std::string, std::string>> c) { ceilings_ = std::move(c); }
   void ReportRuns(const std::vector<Run>& runs) override {
     ConsoleReporter::ReportRuns(runs);
     for (const auto& r : runs)
@@ -37,19 +40,27 @@ class RatioReporter : public benchmark::ConsoleReporter {
         std::printf("RATIO (%s time) %s vs %s: %.2fx faster\n", real_[fast] ? "real" : "CPU", fast.c_str(),
                     base.c_str(), b->second / f->second);
     }
+    for (const auto& [one, serial] : ceilings_) {
+      auto t = times_.find(one), sp = times_.find(serial);
+      if (t != times_.end() && sp != times_.end() && t->second > sp->second)
+        std::printf("CEILING %s on 2 threads with %s serial (%.0f%% of it): %.2fx at most\n", one.c_str(), serial.c_str(),
+                    100 * sp->second / t->second, t->second / (sp->second + (t->second - sp->second) / 2));
+    }
   }
 
  private:
-  std::vector<std::pair<std::string, std::string>> pairs_;
+  std::vector<std::pair<std::string, std::string>> pairs_, ceilings_;
   std::map<std::string, double> times_;
   std::map<std::string, bool> real_;
 };
 
 // What a benchmark's main() does: run them all, then the ratios of the pairs.
-inline int run_benchmarks(int argc, char** argv, std::vector<std::pair<std::string, std::string>> pairs) {
+inline int run_benchmarks(int argc, char** argv, std::vector<std::pair<std::string, std::string>> pairs,
+                          std::vector<std::pair<std::string, std::string>> ceilings = {}) {
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   RatioReporter rep(std::move(pairs));
+  rep.add_ceilings(std::move(ceilings));
   benchmark::RunSpecifiedBenchmarks(&rep);
   benchmark::Shutdown();
   return 0;
