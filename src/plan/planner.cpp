@@ -1,8 +1,10 @@
 #include "plan/planner.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <exception>
 #include <set>
 #include <stdexcept>
 
@@ -10,6 +12,7 @@
 #include "plan/path_ops.hpp"
 #include "plan/tour.hpp"
 #include "util/error.hpp"
+#include "util/threads.hpp"
 
 namespace stipplot {
 
@@ -31,6 +34,34 @@ void PlanOptions::validate() const {
 
 namespace {
 
+// Appends make(0) .. make(n - 1) to out in that order, made on every thread when there
+// are many (a pointillist's 100,000 filled discs, each a spiral of sines and cosines).
+// The first error any of them throws is thrown. O(n) calls.
+template <class Make>
+void append_made(std::vector<Stroke>& out, size_t n, const Make& make) {
+  constexpr size_t kWorthThreads = 4096;
+  const size_t first = out.size();
+  out.resize(first + n);
+  if (n < kWorthThreads || thread_count() < 2 || in_parallel_part()) {
+    for (size_t i = 0; i < n; ++i) out[first + i] = make(i);
+    return;
+  }
+  std::exception_ptr failed;
+  std::atomic<bool> any_failed{false};
+#pragma omp parallel for schedule(dynamic, 256) num_threads(thread_count())
+  for (long i = 0; i < static_cast<long>(n); ++i) {
+    if (any_failed) continue;
+    try {
+      out[first + static_cast<size_t>(i)] = make(static_cast<size_t>(i));
+    } catch (...) {
+#pragma omp critical(planner_append_made)
+      if (!failed) failed = std::current_exception();
+      any_failed = true;
+    }
+  }
+  if (failed) std::rethrow_exception(failed);
+}
+
 // A layer's primitives as strokes, with the path operations that do not depend on the
 // order: joins, simplification and the length filter for polylines, fills, passes.
 // `pass`: only the layer's circles of that pass, and its other primitives with pass 0.
@@ -41,9 +72,16 @@ void add_layer_strokes(const Layer& layer, const PlanOptions& opt, int pass, std
   fill.pitch_fraction = opt.fill_pitch;
   fill.chord_tolerance = opt.chord_tolerance_mm;
   const size_t first = out.size();
-  if (pass != 0) {
+  // The circles of this pass (or, with pass 0, of no pass).
+  auto circles_of = [&](int p) {
+    std::vector<const Circle*> of;
     for (const Circle& c : layer.circles)
-      if (c.pass == pass) out.push_back(plan::circle_stroke(c, fill));
+      if (c.pass == p) of.push_back(&c);
+    return of;
+  };
+  if (pass != 0) {
+    const std::vector<const Circle*> circles = circles_of(pass);
+    append_made(out, circles.size(), [&](size_t i) { return plan::circle_stroke(*circles[i], fill); });
     if (opt.passes > 1)
       for (size_t i = first; i < out.size(); ++i) plan::multipass_stroke(out[i], opt.passes);
     return;
@@ -54,15 +92,13 @@ void add_layer_strokes(const Layer& layer, const PlanOptions& opt, int pass, std
     out.push_back(std::move(s));
   }
   out.reserve(out.size() + layer.dots.size() + layer.circles.size());
-  for (const Dot& dot : layer.dots) {
-    if (dot.diameter <= layer.pen.width_mm) {
-      out.push_back({{dot.c}});
-    } else {
-      out.push_back(plan::circle_stroke(Circle{dot.c, dot.diameter / 2, true, layer.pen.color}, fill));
-    }
-  }
-  for (const Circle& c : layer.circles)
-    if (c.pass == 0) out.push_back(plan::circle_stroke(c, fill));
+  append_made(out, layer.dots.size(), [&](size_t i) {
+    const Dot& dot = layer.dots[i];
+    if (dot.diameter <= layer.pen.width_mm) return Stroke{{dot.c}};
+    return plan::circle_stroke(Circle{dot.c, dot.diameter / 2, true, layer.pen.color}, fill);
+  });
+  const std::vector<const Circle*> circles = circles_of(0);
+  append_made(out, circles.size(), [&](size_t i) { return plan::circle_stroke(*circles[i], fill); });
   plan::HatchOptions hatch;
   hatch.spacing_mm = opt.hatch_spacing_mm > 0 ? opt.hatch_spacing_mm : opt.fill_pitch * layer.pen.width_mm;
   hatch.angle_degrees = opt.hatch_angle_degrees;

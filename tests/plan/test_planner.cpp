@@ -12,6 +12,7 @@
 #include "plan/strokes.hpp"
 #include "util/error.hpp"
 #include "util/rng.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 
@@ -271,6 +272,44 @@ TEST_CASE("dots wider than the pen are filled, smaller ones are touches", "[plan
   REQUIRE(p.layers[0].strokes.size() == 2);
   CHECK(p.layers[0].strokes[0].pts.size() == 1);
   CHECK(p.layers[0].strokes[1].pts.size() > 10);
+}
+
+TEST_CASE("many dots and circles become the same strokes on 1 and 3 threads", "[plan][fill][threads]") {
+  // Enough of each (dots, circles of no pass, circles of a pass) to be made on threads.
+  Rng rng(11);
+  Drawing d;
+  Layer l;
+  l.pen.width_mm = 0.3;
+  for (int i = 0; i < 9000; ++i) {
+    l.dots.push_back({{rng.uniform() * 200, rng.uniform() * 280}, rng.uniform() * 1.2});
+    l.circles.push_back({{rng.uniform() * 200, rng.uniform() * 280}, 0.1 + rng.uniform(), i % 3 != 0, colors::black, i % 2});
+  }
+  d.layers.push_back(l);
+  PlanOptions po;
+  po.optimize_effort = 0;
+  auto strokes = [&](int threads) {
+    set_thread_count(threads);
+    const Plan p = plan_drawing(d, po);
+    set_thread_count(0);
+    std::vector<std::vector<Vec2>> all;
+    for (const auto& layer : p.layers)
+      for (const auto& s : layer.strokes) all.push_back(s.pts);
+    return all;
+  };
+  const auto one = strokes(1), three = strokes(3);
+  REQUIRE(one.size() == 18000);
+  bool same = three.size() == one.size();
+  for (size_t k = 0; same && k < one.size(); ++k) {
+    same = one[k].size() == three[k].size();
+    for (size_t i = 0; same && i < one[k].size(); ++i) same = one[k][i].x == three[k][i].x && one[k][i].y == three[k][i].y;
+  }
+  CHECK(same);
+  // A disc too large to fill fails the plan on the threads as on one, in one line.
+  d.layers[0].circles[4000] = {{100, 100}, 999, true, colors::black, 0};
+  d.layers[0].pen.width_mm = 0.01;
+  set_thread_count(3);
+  CHECK_THROWS_AS(plan_drawing(d, po), UserError);
+  set_thread_count(0);
 }
 
 TEST_CASE("plan stats: lengths, lifts and time", "[plan][stats]") {
