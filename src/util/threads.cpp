@@ -39,6 +39,14 @@ int thread_count() {
 #endif
 }
 
+int thread_index() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
 bool in_parallel_part() {
 #ifdef _OPENMP
   return omp_in_parallel() != 0;

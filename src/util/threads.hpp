@@ -13,5 +13,7 @@ void set_thread_count(int n);
 int thread_count();
 // True inside a parallel part's threads: a part called from there runs on its caller's thread.
 bool in_parallel_part();
+// This thread's number in the parallel part it runs in, 0 .. thread_count() - 1 (0 outside one).
+int thread_index();
 
 }  // namespace stipplot

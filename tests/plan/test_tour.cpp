@@ -205,6 +205,27 @@ TEST_CASE("perturbation stops early where its rounds stop paying, the same way e
   CHECK(st.kicks == opt.kicks);
 }
 
+TEST_CASE("a tour of 150000 nodes in one piece is the same path on 1 and 3 threads with ties and all", "[plan][tour][threads]") {
+  // Below the size planned in halves, so the greedy fragments' ends are joined with their
+  // nearest ends searched on every thread; on a grid many distances tie.
+  for (const bool grid : {false, true}) {
+    const Nodes s = random_nodes(150'000, grid ? 900 : 400, 0.2, grid, 31);
+    plan::TourOptions opt;
+    opt.kicks = 0;
+    set_thread_count(1);
+    const auto one = plan::plan_tour(s.pts, s.partner, {0, 0}, opt);
+    set_thread_count(3);
+    const auto three = plan::plan_tour(s.pts, s.partner, {0, 0}, opt);
+    set_thread_count(0);
+    check_path(s, one);
+    size_t differ = 0;
+    for (size_t i = 0; i < one.size() && i < three.size(); ++i) differ += one[i] != three[i];
+    INFO("grid " << grid);
+    CHECK(one.size() == three.size());
+    CHECK(differ == 0);
+  }
+}
+
 TEST_CASE("a tour of over 250,000 nodes is planned as two halves: the same path on 1 and 2 threads, as short", "[plan][tour][threads]") {
   const Nodes s = random_nodes(300'000, 400, 0.2, false, 23);
   const Vec2 start{0, 0};

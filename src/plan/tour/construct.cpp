@@ -6,6 +6,7 @@
 
 #include "spatial/kdtree.hpp"
 #include "spatial/knn.hpp"
+#include "util/threads.hpp"
 
 namespace stipplot::plan::tour {
 
@@ -54,7 +55,7 @@ class Fragments {
     return x == from ? adj_[2 * static_cast<size_t>(v) + 1] : x;
   }
   bool is_end(uint32_t v) const { return !full(v); }
-  bool same(uint32_t a, uint32_t b) { return find(a) == find(b); }
+  uint32_t fragment_of(uint32_t v) { return find(v); }
   uint32_t count() const { return count_; }  // fragments, lone nodes included
 
  private:
@@ -108,21 +109,33 @@ void join_fragment_ends(const std::vector<Vec2>& pts, Fragments& frag) {
       if (frag.is_end(v)) ends.push_back(v), end_pts.push_back(pts[v]);
     const uint32_t m = static_cast<uint32_t>(ends.size());
     const spatial::PlaneKnn knn(end_pts, m);
-    std::vector<uint32_t> near(static_cast<size_t>(m) * k, kNoNode), idx(k + 1);
-    std::vector<double> d2(k + 1);
-    std::vector<uint64_t> keys;
-    for (uint32_t i = 0; i < m; ++i) {
-      const size_t got = knn.k_nearest(end_pts[i], k + 1, idx.data(), d2.data());
-      uint32_t s = 0;
-      for (size_t j = 0; j < got && s < k; ++j) {
-        if (idx[j] == i || frag.same(ends[i], ends[idx[j]])) continue;
-        if (idx[j] < i) continue;  // (j, i) is j's
-        near[static_cast<size_t>(i) * k + s] = idx[j];
-        const float len = static_cast<float>(std::sqrt(d2[j]));
-        keys.push_back(static_cast<uint64_t>(std::bit_cast<uint32_t>(len)) << 32 | (static_cast<uint64_t>(i) * k + s));
-        ++s;
+    std::vector<uint32_t> near(static_cast<size_t>(m) * k, kNoNode), fragment(m);
+    for (uint32_t i = 0; i < m; ++i) fragment[i] = frag.fragment_of(ends[i]);  // (finding compresses paths)
+    // Each end's nearest on every thread (the searches only read); the keys are distinct,
+    // so once sorted they are the same in whatever order the threads found them.
+    std::vector<std::vector<uint64_t>> found(static_cast<size_t>(std::max(1, thread_count())));
+#pragma omp parallel num_threads(thread_count()) if (m >= 20000 && !in_parallel_part())
+    {
+      std::vector<uint32_t> idx(k + 1);
+      std::vector<double> d2(k + 1);
+      std::vector<uint64_t>& mine = found[static_cast<size_t>(thread_index())];
+#pragma omp for schedule(dynamic, 1024)
+      for (long li = 0; li < static_cast<long>(m); ++li) {
+        const uint32_t i = static_cast<uint32_t>(li);
+        const size_t got = knn.k_nearest(end_pts[i], k + 1, idx.data(), d2.data());
+        uint32_t s = 0;
+        for (size_t j = 0; j < got && s < k; ++j) {
+          if (idx[j] == i || fragment[i] == fragment[idx[j]]) continue;
+          if (idx[j] < i) continue;  // (j, i) is j's
+          near[static_cast<size_t>(i) * k + s] = idx[j];
+          const float len = static_cast<float>(std::sqrt(d2[j]));
+          mine.push_back(static_cast<uint64_t>(std::bit_cast<uint32_t>(len)) << 32 | (static_cast<uint64_t>(i) * k + s));
+          ++s;
+        }
       }
     }
+    std::vector<uint64_t> keys;
+    for (auto& f : found) keys.insert(keys.end(), f.begin(), f.end());
     std::sort(keys.begin(), keys.end());
     const uint32_t before = frag.count();
     for (const uint64_t key : keys) {
