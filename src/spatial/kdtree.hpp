@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "geometry/drawing.hpp"
+#include "util/threads.hpp"
 
 namespace stipplot::spatial {
 
@@ -85,7 +86,11 @@ class KdTree {
     Point p;
     uint32_t id;
   };
-  uint32_t build(uint32_t begin, uint32_t end, std::vector<Item>& items, const std::array<double, D>& w);
+  // Builds the subtree of items [begin, end) as node `me` and its descendants after it;
+  // `nodes_of(size)` is how many nodes a subtree of that many items has.
+  template <class NodesOf>
+  void build(uint32_t me, uint32_t begin, uint32_t end, std::vector<Item>& items, const std::array<double, D>& w,
+             const NodesOf& nodes_of, bool tasks);
   // The bookkeeping deletion needs, made on the first erase (MSTs never erase). O(n).
   void prepare_erase();
 
@@ -125,8 +130,41 @@ KdTree<D, T>::KdTree(size_t n, Coord&& coord, const std::array<double, D>& split
     for (int d = 0; d < D; ++d) items[i].p[d] = coord(i, d);
     items[i].id = i;
   }
-  nodes_.reserve(2 * n / kLeafSize + 2);
-  if (m > 0) build(0, m, items, split_weight);
+  // Subtrees are halves (sizes floor and ceil of s / 2), so a level holds at most two sizes
+  // and their node counts are found bottom-up in O(log n); each subtree's nodes then have
+  // known places (preorder: a node, its left subtree, its right), and the two subtrees of a
+  // large node are built at once on every thread: the same tree on any count.
+  std::vector<std::pair<uint32_t, uint32_t>> counts;  // (size, nodes), distinct sizes
+  for (std::vector<uint32_t> level = {m}; !level.empty();) {
+    std::vector<uint32_t> next;
+    for (const uint32_t sz : level) {
+      counts.push_back({sz, 0});
+      if (sz > kLeafSize)
+        for (const uint32_t half : {sz / 2, sz - sz / 2})
+          if (std::find(next.begin(), next.end(), half) == next.end()) next.push_back(half);
+    }
+    level = std::move(next);
+  }
+  auto nodes_of = [&counts](uint32_t sz) {
+    for (const auto& [size, nodes] : counts)
+      if (size == sz) return nodes;
+    return uint32_t{0};
+  };
+  for (size_t k = counts.size(); k-- > 0;) {  // smallest sizes last in the list: fill them first
+    auto& [sz, nodes] = counts[k];
+    nodes = sz <= kLeafSize ? 1 : 1 + nodes_of(sz / 2) + nodes_of(sz - sz / 2);
+  }
+  if (m > 0) {
+    nodes_.resize(nodes_of(m));
+    const bool tasks = m >= 50'000 && thread_count() > 1 && !in_parallel_part();
+    if (tasks) {
+#pragma omp parallel num_threads(thread_count())
+#pragma omp single
+      build(0, 0, m, items, split_weight, nodes_of, true);
+    } else {
+      build(0, 0, m, items, split_weight, nodes_of, false);
+    }
+  }
   pts_.resize(m);
   id_.resize(m);
   for (uint32_t k = 0; k < m; ++k) {
@@ -154,9 +192,9 @@ void KdTree<D, T>::prepare_erase() {
 }
 
 template <int D, class T>
-uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, std::vector<Item>& items, const std::array<double, D>& w) {
-  const uint32_t me = static_cast<uint32_t>(nodes_.size());
-  nodes_.push_back(Node{});
+template <class NodesOf>
+void KdTree<D, T>::build(uint32_t me, uint32_t b, uint32_t e, std::vector<Item>& items, const std::array<double, D>& w,
+                         const NodesOf& nodes_of, bool tasks) {
   Node nd{};
   nd.begin = b, nd.end = e, nd.alive = e - b;
   for (int k = 0; k < D; ++k) nd.lo[k] = std::numeric_limits<T>::max(), nd.hi[k] = std::numeric_limits<T>::lowest();
@@ -173,11 +211,19 @@ uint32_t KdTree<D, T>::build(uint32_t b, uint32_t e, std::vector<Item>& items, c
     }
     const uint32_t mid = b + (e - b) / 2;
     median_split(items, b, mid, e, dim, std::make_integer_sequence<int, D>{});
-    nd.left = build(b, mid, items, w);
-    nd.right = build(mid, e, items, w);
+    nd.left = me + 1;
+    nd.right = me + 1 + nodes_of(mid - b);
+    if (tasks && e - b >= 20'000) {  // a task each for large subtrees; small ones run here
+#pragma omp task default(shared) firstprivate(nd, b, mid)
+      build(nd.left, b, mid, items, w, nodes_of, true);
+      build(nd.right, mid, e, items, w, nodes_of, true);
+#pragma omp taskwait
+    } else {
+      build(nd.left, b, mid, items, w, nodes_of, false);
+      build(nd.right, mid, e, items, w, nodes_of, false);
+    }
   }
   nodes_[me] = nd;
-  return me;
 }
 
 template <int D, class T>

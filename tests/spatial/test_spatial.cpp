@@ -13,6 +13,7 @@
 #include "spatial/mst.hpp"
 #include "test_util.hpp"
 #include "util/rng.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 
@@ -94,6 +95,46 @@ TEST_CASE("kd-tree greedy walk equals brute force - equally near points in a fix
     return order;
   };
   CHECK(walk() == walk());
+}
+
+TEST_CASE("a kd-tree built on 1 and 3 threads is the same node for node", "[spatial][threads]") {
+  // Large enough for its subtrees to be built as tasks; a grid makes many equal coordinates.
+  for (const bool grid : {false, true}) {
+    Rng rng(5);
+    std::vector<Vec2> pts(300'001);
+    for (auto& p : pts) {
+      p = {rng.uniform() * 500, rng.uniform() * 300};
+      if (grid) p = {std::round(p.x / 7) * 7, std::round(p.y / 7) * 7};
+    }
+    set_thread_count(1);
+    const spatial::PlaneTree one = spatial::plane_tree(pts);
+    set_thread_count(3);
+    const spatial::PlaneTree three = spatial::plane_tree(pts);
+    set_thread_count(0);
+    INFO("grid " << grid);
+    REQUIRE(one.nodes().size() == three.nodes().size());
+    REQUIRE(one.nodes().size() > 60'000);
+    bool same = true;
+    for (size_t k = 0; k < one.nodes().size() && same; ++k) {
+      const auto &a = one.nodes()[k], &b = three.nodes()[k];
+      same = a.begin == b.begin && a.end == b.end && a.left == b.left && a.right == b.right && a.lo[0] == b.lo[0] &&
+             a.lo[1] == b.lo[1] && a.hi[0] == b.hi[0] && a.hi[1] == b.hi[1] && a.alive == b.alive;
+    }
+    for (uint32_t k = 0; k < pts.size() && same; ++k) same = one.id(k) == three.id(k);
+    CHECK(same);
+    // Every node's children follow it, the leaves cover every point once, in order.
+    uint32_t covered = 0;
+    for (size_t k = 0; k < one.nodes().size(); ++k) {
+      const auto& nd = one.nodes()[k];
+      if (nd.leaf()) {
+        CHECK(nd.begin == covered);
+        covered = nd.end;
+      } else {
+        CHECK((nd.left == k + 1 && nd.right > nd.left && nd.right < one.nodes().size()));
+      }
+    }
+    CHECK(covered == pts.size());
+  }
 }
 
 TEST_CASE("Euclidean MST equals Prim's weight and spans the points", "[spatial][mst]") {
