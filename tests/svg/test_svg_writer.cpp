@@ -10,6 +10,7 @@
 #include "svg/svg_reader.hpp"
 #include "svg/svg_writer.hpp"
 #include "test_util.hpp"
+#include "util/rng.hpp"
 #include "util/threads.hpp"
 
 using namespace stipplot;
@@ -113,15 +114,11 @@ TEST_CASE("a large drawing and its plan are written as the same text on 1 and 3 
   d.page = Page{300, 300};
   Layer l;
   l.pen = Pen{"black", colors::black, 0.3};
-  uint64_t state = 3;
-  auto next = [&] {
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) / 9007199254740992.0;
-  };
+  Rng rng(3);
   for (int k = 0; k < 900; ++k) {
     Polyline pl;
     const int n = k % 50 == 0 ? 9000 : k % 7 == 0 ? 1 : 2 + k % 300;
-    for (int i = 0; i < n; ++i) pl.pts.push_back({10 + next() * 280, 10 + next() * 280});
+    for (int i = 0; i < n; ++i) pl.pts.push_back({10 + rng.uniform() * 280, 10 + rng.uniform() * 280});
     l.lines.push_back(pl);
   }
   d.layers.push_back(l);
