@@ -1,8 +1,6 @@
 #include "svg/svg_document.hpp"
 
 #include <algorithm>
-#include <atomic>
-#include <exception>
 #include <string>
 #include <vector>
 
@@ -136,8 +134,7 @@ void push_lines(tinyxml2::XMLPrinter& p, const std::vector<const std::vector<Vec
   // Two batches of text: the threads fill one while this one writes the other.
   std::vector<std::string> text[2] = {std::vector<std::string>(kBatch), std::vector<std::string>(kBatch)};
   const size_t batches = (pieces.size() + kBatch - 1) / kBatch;
-  std::exception_ptr failed;  // the first formatting error (a non-finite coordinate)
-  std::atomic<bool> any_failed{false};
+  FirstError error;  // the first formatting error (a non-finite coordinate)
   auto format = [&](size_t k) {
     const Piece& pc = pieces[k];
     format_piece(pc.pts, pc.from, pc.to, as, decimals, text[(k / kBatch) % 2][k % kBatch]);
@@ -148,7 +145,7 @@ void push_lines(tinyxml2::XMLPrinter& p, const std::vector<const std::vector<Vec
     // Every thread goes through every batch (a thread may not leave a team's loop alone).
     for (size_t b = 0; b < batches; ++b) {
 #pragma omp master
-      if (!any_failed) {  // thread 0 writes batch b while the others format batch b + 1
+      if (!error.failed()) {  // thread 0 writes batch b while the others format batch b + 1
         const size_t first = b * kBatch, last = std::min(pieces.size(), first + kBatch);
         for (size_t k = first; k < last; ++k) push_element(p, as, text[b % 2][k - first]);
       }
@@ -156,18 +153,12 @@ void push_lines(tinyxml2::XMLPrinter& p, const std::vector<const std::vector<Vec
       const long last = static_cast<long>(std::min(pieces.size(), (b + 2) * kBatch));
 #pragma omp for schedule(dynamic, 8)
       for (long k = first; k < last; ++k) {
-        if (any_failed) continue;
-        try {
-          format(static_cast<size_t>(k));
-        } catch (...) {
-#pragma omp critical(svg_format_failure)
-          if (!failed) failed = std::current_exception();
-          any_failed = true;
-        }
+        if (error.failed()) continue;
+        error.capture([&] { format(static_cast<size_t>(k)); });
       }  // (the loop's end waits for every thread, thread 0 too: batch b + 1 is complete)
     }
   }
-  if (failed) std::rethrow_exception(failed);
+  error.rethrow();
 }
 
 }  // namespace stipplot

@@ -1,10 +1,8 @@
 #include "plan/planner.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <exception>
 #include <set>
 #include <stdexcept>
 
@@ -46,20 +44,13 @@ void append_made(std::vector<Stroke>& out, size_t n, const Make& make) {
     for (size_t i = 0; i < n; ++i) out[first + i] = make(i);
     return;
   }
-  std::exception_ptr failed;
-  std::atomic<bool> any_failed{false};
+  FirstError error;
 #pragma omp parallel for schedule(dynamic, 256) num_threads(thread_count())
   for (long i = 0; i < static_cast<long>(n); ++i) {
-    if (any_failed) continue;
-    try {
-      out[first + static_cast<size_t>(i)] = make(static_cast<size_t>(i));
-    } catch (...) {
-#pragma omp critical(planner_append_made)
-      if (!failed) failed = std::current_exception();
-      any_failed = true;
-    }
+    if (error.failed()) continue;
+    error.capture([&] { out[first + static_cast<size_t>(i)] = make(static_cast<size_t>(i)); });
   }
-  if (failed) std::rethrow_exception(failed);
+  error.rethrow();
 }
 
 // A layer's primitives as strokes, with the path operations that do not depend on the

@@ -157,7 +157,6 @@ std::vector<Edge> boruvka_mst(const KdTree<D, T>& t, const C& cost, MstStats* st
   detail::UnionFind uf(n);
   size_t ncomp = n;
   MstStats st;
-  detail::ForeignSearch<D, T, C> s{t, comp, node_comp, cost};
   auto offer = [&](int32_t r, double c, uint32_t i, uint32_t j) {
     Best& b = best[static_cast<size_t>(r)];
     const uint32_t lo = std::min(i, j), hi = std::max(i, j);
@@ -179,59 +178,41 @@ std::vector<Edge> boruvka_mst(const KdTree<D, T>& t, const C& cost, MstStats* st
       else
         nn[i] = kNone;
     }
-    if (!parallel) {
-      for (uint32_t i = 0; i < n; ++i) {
+    // The searches on every thread when worth it, each bounded by its component's best as
+    // it stands when the search starts (read and offered under the component's lock). A
+    // bound is always an edge the component has, so each component still ends the round
+    // with its cheapest edge under (cost, lower, higher): the same tree bit for bit; only
+    // how many searches run (the stats) depends on the threads' timing. On one thread the
+    // searches go in tree order, each with the best so far.
+    auto locked = [&](size_t r, auto&& f) {
+      if (!parallel) return f();
+      std::lock_guard<std::mutex> g(locks[r % kLocks]);
+      return f();
+    };
+    size_t queries = 0;
+#pragma omp parallel num_threads(thread_count()) reduction(+ : queries) if (parallel)
+    {
+      detail::ForeignSearch<D, T, C> s{t, comp, node_comp, cost};
+#pragma omp for schedule(dynamic, 256)
+      for (long k = 0; k < static_cast<long>(n); ++k) {
+        const uint32_t i = static_cast<uint32_t>(k);
         if (nn[i] != kNone) continue;
-        const Best& b = best[static_cast<size_t>(comp[i])];
+        const size_t r = static_cast<size_t>(comp[i]);
+        const Best b = locked(r, [&] { return best[r]; });
         if (nnd[i] > b.c) continue;  // cannot beat the component's best
         s.q = i, s.qc = comp[i], s.qp = t.point(i);
         s.best = b.c, s.blo = b.lo, s.bhi = b.hi, s.bj = kNone;
-        ++st.queries;
+        ++queries;
         s.visit(0);
         if (s.bj != kNone) {
           nn[i] = s.bj, nnd[i] = s.best;
-          offer(comp[i], s.best, i, s.bj);
+          locked(r, [&] { offer(comp[i], s.best, i, s.bj); });
         } else {
           nnd[i] = std::max(nnd[i], b.c);
         }
       }
-    } else {
-      // The same searches on every thread, each bounded by its component's best as it
-      // stands when the search starts (read and offered under the component's lock). A
-      // bound is always an edge the component has, so each component still ends the round
-      // with its cheapest edge under (cost, lower, higher): the same tree bit for bit;
-      // only how many searches run (the stats) depends on the threads' timing.
-      size_t queries = 0;
-#pragma omp parallel num_threads(thread_count()) reduction(+ : queries)
-      {
-        detail::ForeignSearch<D, T, C> ts{t, comp, node_comp, cost};
-#pragma omp for schedule(dynamic, 256)
-        for (long k = 0; k < static_cast<long>(n); ++k) {
-          const uint32_t i = static_cast<uint32_t>(k);
-          if (nn[i] != kNone) continue;
-          const size_t r = static_cast<size_t>(comp[i]);
-          std::mutex& m = locks[r % kLocks];
-          Best b;
-          {
-            std::lock_guard<std::mutex> g(m);
-            b = best[r];
-          }
-          if (nnd[i] > b.c) continue;  // cannot beat the component's best
-          ts.q = i, ts.qc = comp[i], ts.qp = t.point(i);
-          ts.best = b.c, ts.blo = b.lo, ts.bhi = b.hi, ts.bj = kNone;
-          ++queries;
-          ts.visit(0);
-          if (ts.bj != kNone) {
-            nn[i] = ts.bj, nnd[i] = ts.best;
-            std::lock_guard<std::mutex> g(m);
-            offer(comp[i], ts.best, i, ts.bj);
-          } else {
-            nnd[i] = std::max(nnd[i], b.c);
-          }
-        }
-      }
-      st.queries += queries;
     }
+    st.queries += queries;
     const size_t before = ncomp;
     for (uint32_t r = 0; r < n; ++r) {
       if (comp[r] != static_cast<int32_t>(r) || best[r].lo == kNone) continue;
