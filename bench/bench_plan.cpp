@@ -21,6 +21,7 @@
 #include "plan/tour.hpp"
 #include "synthetic.hpp"
 #include "util/rng.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 
@@ -139,6 +140,25 @@ static void BM_PlanUniformDots(benchmark::State& state) {
   state.counters["budget_hit"] = info.budget_hit;
 }
 BENCHMARK(BM_PlanUniformDots)->Arg(10000)->Arg(100000)->Arg(300000)->Arg(1000000)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+// One tour of 100,000 uniform dots (as the connected stipple's) on 1 and 2 threads
+// (range(0)): wall time of the construction and of the improvement apart, the path the
+// same on both (tests "[threads]"). Real time: the second thread's work is not the caller's.
+static void BM_TourThreads(benchmark::State& state) {
+  const Instance& in = uniform_instance(100000);
+  set_thread_count(static_cast<int>(state.range(0)));
+  plan::TourStats st;
+  double construct = 0, improve = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(plan::plan_tour(in.pts, in.partner, {0, 0}, plan::TourOptions{}, &st).data());
+    construct += st.construct_seconds, improve += st.improve_seconds;
+  }
+  set_thread_count(0);
+  const double runs = static_cast<double>(state.iterations());
+  state.counters["construct_ms"] = 1e3 * construct / runs;
+  state.counters["improve_ms"] = 1e3 * improve / runs;
+}
+BENCHMARK(BM_TourThreads)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(5);
 
 // The tour's stages on the same dots, to show where the time and the quality come
 // from: construction (greedy edge vs nearest neighbour), the local optimum, and

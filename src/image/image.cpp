@@ -8,10 +8,78 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <new>
+#include <utility>
+#include <cstdlib>
 
 #include "util/error.hpp"
 
 namespace stipplot {
+
+PixelBytes::PixelBytes(const PixelBytes& other) { assign(other.begin(), other.end()); }
+
+PixelBytes::PixelBytes(PixelBytes&& other) noexcept : p_(std::exchange(other.p_, nullptr)), n_(std::exchange(other.n_, 0)) {}
+
+PixelBytes& PixelBytes::operator=(const PixelBytes& other) {
+  if (this != &other) assign(other.begin(), other.end());
+  return *this;
+}
+
+PixelBytes& PixelBytes::operator=(PixelBytes&& other) noexcept {
+  if (this != &other) {
+    std::free(p_);
+    p_ = std::exchange(other.p_, nullptr);
+    n_ = std::exchange(other.n_, 0);
+  }
+  return *this;
+}
+
+PixelBytes::~PixelBytes() { std::free(p_); }
+
+PixelBytes PixelBytes::adopt(uint8_t* block, size_t n) {
+  PixelBytes b;
+  b.p_ = block;
+  b.n_ = block ? n : 0;
+  return b;
+}
+
+void PixelBytes::resize(size_t n) {
+  if (n == n_) return;
+  if (n == 0) {
+    std::free(p_);
+    p_ = nullptr;
+    n_ = 0;
+    return;
+  }
+  auto* q = static_cast<uint8_t*>(std::realloc(p_, n));
+  if (!q) throw std::bad_alloc();
+  if (n > n_) std::memset(q + n_, 0, n - n_);
+  p_ = q;
+  n_ = n;
+}
+
+void PixelBytes::assign(size_t n, uint8_t v) {
+  resize(n);
+  if (n) std::memset(p_, v, n);
+}
+
+void PixelBytes::assign(const uint8_t* first, const uint8_t* last) {
+  const size_t n = static_cast<size_t>(last - first);
+  if (n == 0) {
+    resize(0);
+    return;
+  }
+  auto* q = static_cast<uint8_t*>(std::malloc(n));  // (first may lie in the old block)
+  if (!q) throw std::bad_alloc();
+  std::memcpy(q, first, n);
+  std::free(p_);
+  p_ = q;
+  n_ = n;
+}
+
+bool PixelBytes::operator==(const PixelBytes& other) const {
+  return n_ == other.n_ && (n_ == 0 || std::memcmp(p_, other.p_, n_) == 0);
+}
 
 std::vector<uint8_t> Image::plane(int c) const {
   std::vector<uint8_t> out(pixels());
@@ -89,15 +157,16 @@ Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, c
   const bool alpha = comp == 2 || comp == 4;
   unsigned char* data = stbi_load_from_memory(bytes, len, &w, &h, &comp, alpha ? 4 : 3);
   if (!data) throw UserError(damaged(name, bytes, size));
-  std::unique_ptr<unsigned char, void (*)(void*)> guard(data, &stbi_image_free);
-
   Image im;
   im.width = w;
   im.height = h;
   if (!alpha) {
-    im.rgb.assign(data, data + static_cast<size_t>(px) * 3);
+    // stb_image's block is the image (it allocates with malloc: STBI_MALLOC is not set in
+    // Debian's libstb, and stbi_image_free is free).
+    im.rgb = PixelBytes::adopt(data, static_cast<size_t>(px) * 3);
     return im;
   }
+  std::unique_ptr<unsigned char, void (*)(void*)> guard(data, &stbi_image_free);
   im.rgb.resize(static_cast<size_t>(px) * 3);
   for (size_t i = 0; i < px; ++i) {
     const unsigned char* p = data + i * 4;

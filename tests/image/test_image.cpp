@@ -1,4 +1,7 @@
 #include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <vector>
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb_image_write.h>
@@ -45,6 +48,43 @@ TEST_CASE("PNG, BMP, TGA and JPEG load, alpha composites on white", "[image]") {
   }
   Image j = load_image(t.file("a.jpg"));
   CHECK(j.width == w);
+}
+
+TEST_CASE("an RGB photo decodes to its pixels exactly (the decoder's own buffer, taken as it is)", "[image]") {
+  test::TempDir t;
+  const int w = 7, h = 5;
+  std::vector<uint8_t> px(static_cast<size_t>(w) * h * 3);
+  for (size_t i = 0; i < px.size(); ++i) px[i] = static_cast<uint8_t>(i * 37 + 11);
+  REQUIRE(stbi_write_png(t.file("rgb.png").c_str(), w, h, 3, px.data(), w * 3));
+  const Image im = load_image(t.file("rgb.png"));
+  REQUIRE(im.rgb.size() == px.size());
+  CHECK(std::equal(px.begin(), px.end(), im.rgb.begin()));
+}
+
+TEST_CASE("an image's bytes behave as a vector's: zero-filled growth, deep copies, emptied moves", "[image]") {
+  PixelBytes a;
+  CHECK(a.empty());
+  a.resize(4);
+  CHECK(std::vector<uint8_t>(a.begin(), a.end()) == std::vector<uint8_t>{0, 0, 0, 0});
+  a[1] = 9;
+  a.resize(6);  // keeps what was there, the new bytes read 0
+  CHECK(std::vector<uint8_t>(a.begin(), a.end()) == std::vector<uint8_t>{0, 9, 0, 0, 0, 0});
+  PixelBytes b = a;
+  b[0] = 5;
+  CHECK(a[0] == 0);  // a copy of its own
+  CHECK_FALSE(a == b);
+  b = a;
+  CHECK(a == b);
+  PixelBytes c = std::move(b);
+  CHECK(b.empty());
+  CHECK(c == a);
+  c.assign(3, 7);
+  CHECK(std::vector<uint8_t>(c.begin(), c.end()) == std::vector<uint8_t>{7, 7, 7});
+  c.assign(c.data() + 1, c.data() + 3);  // from its own bytes
+  CHECK(std::vector<uint8_t>(c.begin(), c.end()) == std::vector<uint8_t>{7, 7});
+  c.resize(0);
+  CHECK(c.empty());
+  CHECK(c == PixelBytes{});
 }
 
 TEST_CASE("luma is Rec. 601", "[image]") {

@@ -32,6 +32,24 @@ std::vector<uint32_t> nearest_neighbour_path(const std::vector<Vec2>& pts, const
 
 namespace {
 
+// Sorted lists merged into one sorted list, pair by pair. O(total log lists).
+std::vector<uint64_t> merge_sorted(std::vector<std::vector<uint64_t>> lists) {
+  if (lists.empty()) return {};
+  while (lists.size() > 1) {
+    std::vector<std::vector<uint64_t>> next;
+    for (size_t i = 0; i + 1 < lists.size(); i += 2) {
+      std::vector<uint64_t> both(lists[i].size() + lists[i + 1].size());
+      std::merge(lists[i].begin(), lists[i].end(), lists[i + 1].begin(), lists[i + 1].end(), both.begin());
+      std::vector<uint64_t>().swap(lists[i]);
+      std::vector<uint64_t>().swap(lists[i + 1]);
+      next.push_back(std::move(both));
+    }
+    if (lists.size() % 2) next.push_back(std::move(lists.back()));
+    lists = std::move(next);
+  }
+  return std::move(lists[0]);
+}
+
 // Path fragments as a graph of degree at most 2, with union-find to refuse cycles.
 class Fragments {
  public:
@@ -74,25 +92,33 @@ class Fragments {
 
 // Candidate edges (each once) sorted by length, ties by (node, rank): 64-bit keys of
 // the float length's bits (ordered like the lengths, all being >= 0) and the slot.
+// On threads from 20k nodes: each thread keys and sorts a block of rows, and the blocks
+// are merged; the keys are distinct, so the list is the same on any thread count.
 std::vector<uint64_t> sorted_candidate_edges(const std::vector<Vec2>& pts, const Candidates& cand) {
   const uint32_t n = static_cast<uint32_t>(pts.size()), k = cand.k;
-  std::vector<uint64_t> keys;
-  keys.reserve(static_cast<size_t>(n) * k * 2 / 3);
-  for (uint32_t i = 0; i < n; ++i) {
-    const uint32_t* row = cand.row(i);
-    // The 5 nearest suffice: the rounds among fragment ends join what they leave.
-    const uint32_t kg = std::min(k, 5u);
-    for (uint32_t s = 0; s < kg && row[s] != kNoNode; ++s) {
-      const uint32_t j = row[s];
-      // Keep (i, j) from the lower index, or from i when j's list lacks i.
-      if (j < i && std::find(cand.row(j), cand.row(j) + kg, i) != cand.row(j) + kg) continue;
-      const double dx = pts[i].x - pts[j].x, dy = pts[i].y - pts[j].y;
-      const float len = static_cast<float>(std::sqrt(dx * dx + dy * dy));
-      keys.push_back(static_cast<uint64_t>(std::bit_cast<uint32_t>(len)) << 32 | (static_cast<uint64_t>(i) * k + s));
+  // The 5 nearest suffice: the rounds among fragment ends join what they leave.
+  const uint32_t kg = std::min(k, 5u);
+  auto key_rows = [&](uint32_t from, uint32_t to, std::vector<uint64_t>& keys) {
+    keys.reserve(static_cast<size_t>(to - from) * kg * 2 / 3);
+    for (uint32_t i = from; i < to; ++i) {
+      const uint32_t* row = cand.row(i);
+      for (uint32_t s = 0; s < kg && row[s] != kNoNode; ++s) {
+        const uint32_t j = row[s];
+        // Keep (i, j) from the lower index, or from i when j's list lacks i.
+        if (j < i && std::find(cand.row(j), cand.row(j) + kg, i) != cand.row(j) + kg) continue;
+        const double dx = pts[i].x - pts[j].x, dy = pts[i].y - pts[j].y;
+        const float len = static_cast<float>(std::sqrt(dx * dx + dy * dy));
+        keys.push_back(static_cast<uint64_t>(std::bit_cast<uint32_t>(len)) << 32 | (static_cast<uint64_t>(i) * k + s));
+      }
     }
-  }
-  std::sort(keys.begin(), keys.end());
-  return keys;
+    std::sort(keys.begin(), keys.end());
+  };
+  const int parts = n >= 20'000 && !in_parallel_part() ? std::max(1, thread_count()) : 1;
+  std::vector<std::vector<uint64_t>> part(static_cast<size_t>(parts));
+#pragma omp parallel for num_threads(parts) schedule(static, 1) if (parts > 1)
+  for (int t = 0; t < parts; ++t)
+    key_rows(static_cast<uint32_t>(uint64_t{n} * t / parts), static_cast<uint32_t>(uint64_t{n} * (t + 1) / parts), part[t]);
+  return merge_sorted(std::move(part));
 }
 
 // Greedy matching again among the fragments' free ends only, round after round (each
@@ -133,10 +159,9 @@ void join_fragment_ends(const std::vector<Vec2>& pts, Fragments& frag) {
           ++s;
         }
       }
+      std::sort(mine.begin(), mine.end());
     }
-    std::vector<uint64_t> keys;
-    for (auto& f : found) keys.insert(keys.end(), f.begin(), f.end());
-    std::sort(keys.begin(), keys.end());
+    const std::vector<uint64_t> keys = merge_sorted(std::move(found));
     const uint32_t before = frag.count();
     for (const uint64_t key : keys) {
       const uint32_t slot = static_cast<uint32_t>(key);
