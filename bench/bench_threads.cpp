@@ -4,8 +4,10 @@
 // wall-clock time, so the ratio is the speed-up the parallel parts give
 // (util/threads.hpp). The output is the same bit for bit for both (tests "[threads]").
 // The photo's decoding is timed alone too: no thread shortens it, so each command's
-// CEILING line is the most two threads could give it (Amdahl). Run on a quiet machine: a
-// busy core takes the second thread's time.
+// CEILING line is the most two threads could give it (Amdahl), and its SERIAL line what
+// of it stays serial as measured (2 T2 - T1: the decode, and the rest that a further
+// parallel part could take). Run on a quiet machine: a busy core takes the second
+// thread's time.
 //   ./build/bench/bench_threads
 #include <filesystem>
 #include <string>

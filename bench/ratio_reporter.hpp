@@ -30,6 +30,7 @@ class RatioReporter : public benchmark::ConsoleReporter {
         // benchmark asks for it (parallel code, whose CPU time is the sum of its threads').
         times_[name] = r.run_name.time_type == "real_time" ? r.GetAdjustedRealTime() : r.GetAdjustedCPUTime();
         real_[name] = r.run_name.time_type == "real_time";
+        unit_[name] = benchmark::GetTimeUnitString(r.time_unit);
       }
   }
   void Finalize() override {
@@ -46,11 +47,24 @@ class RatioReporter : public benchmark::ConsoleReporter {
         std::printf("CEILING %s on 2 threads with %s serial (%.0f%% of it): %.2fx at most\n", one.c_str(), serial.c_str(),
                     100 * sp->second / t->second, t->second / (sp->second + (t->second - sp->second) / 2));
     }
+    // What stays serial, as the one-thread run would have it were all the rest halved:
+    // T2 = S + (T1 - S) / 2 gives S = 2 T2 - T1; of it the decode, and the rest (what a
+    // further parallel part could take).
+    for (const auto& [one, serial] : ceilings_)
+      for (const auto& [two, base] : pairs_) {
+        auto t1 = times_.find(one), t2 = times_.find(two), sp = times_.find(serial);
+        if (base != one || t1 == times_.end() || t2 == times_.end() || sp == times_.end()) continue;
+        const double s = 2 * t2->second - t1->second;
+        const char* u = unit_[one].c_str();
+        std::printf("SERIAL %s: 2 x T2 - T1 = %.0f %s as if serial, %s %.0f %s of it, the rest %.0f %s\n", two.c_str(), s,
+                    u, serial.c_str(), sp->second, u, s - sp->second, u);
+      }
   }
 
  private:
   std::vector<std::pair<std::string, std::string>> pairs_, ceilings_;
   std::map<std::string, double> times_;
+  std::map<std::string, std::string> unit_;
   std::map<std::string, bool> real_;
 };
 
