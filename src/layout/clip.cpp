@@ -174,6 +174,12 @@ ClipCounts clip_layer(Layer& l, const Rect& r, double tol) {
   std::vector<Polyline> lines;
   for (auto& pl : l.lines) {
     snap_points(pl.pts, r);
+    // Wholly on the sheet, the common case: kept as it is (clipping would return the same
+    // points, copied one by one: a tree's 433,000-point outline).
+    if (pl.pts.size() >= 2 && std::all_of(pl.pts.begin(), pl.pts.end(), [&](Vec2 p) { return r.contains(p); })) {
+      lines.push_back(std::move(pl));
+      continue;
+    }
     bool changed;
     auto runs = clip_polyline(pl, r, changed);
     if (runs.empty()) ++n.dropped;

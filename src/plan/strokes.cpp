@@ -50,6 +50,9 @@ class VertexSnap {
 
 void append_points(Stroke& s, const std::vector<Vec2>& pts, bool reversed) {
   const size_t n = pts.size();
+  // Room for all of them at once, growing geometrically still: a tree's outline of 433,000
+  // points is one allocation, not twenty reallocations each faulting in fresh pages.
+  if (s.pts.capacity() < s.pts.size() + n) s.pts.reserve(std::max(s.pts.size() + n, 2 * s.pts.capacity()));
   for (size_t k = 0; k < n; ++k) {
     const Vec2& p = reversed ? pts[n - 1 - k] : pts[k];
     if (!s.pts.empty() && s.pts.back() == p) continue;

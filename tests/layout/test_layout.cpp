@@ -164,6 +164,22 @@ TEST_CASE("clipping cuts strokes at the sheet's edge and drops what lies off it"
   for (const auto& p : c.areas[0].rings[0].pts) CHECK(p.x >= -1e-9);
 }
 
+TEST_CASE("a stroke wholly on the sheet is kept exactly as it was: edges and repeated points and all", "[layout][clip]") {
+  Drawing d = page_with(100, 100);
+  const Polyline on = {{{0, 0}, {0, 0}, {100, 100}, {50, 100}, {100, 0}, {100, 0}}};
+  d.layers[0].lines.push_back(on);
+  d.layers[0].lines.push_back({{{50, 50}, {100, 50}, {100.5, 50}}});  // leaves the sheet: cut
+  LayoutOptions o;
+  o.sheet = sheet(100, 100);
+  LayoutReport rep;
+  const Drawing out = lay_out(d, o, &rep);
+  REQUIRE(out.layers[0].lines.size() == 2);
+  CHECK(out.layers[0].lines[0].pts == on.pts);
+  CHECK(out.layers[0].lines[1].pts.back() == Vec2{100, 50});
+  CHECK(rep.clipped.cut == 1);
+  CHECK(rep.clipped.dropped == 0);
+}
+
 TEST_CASE("crop keeps a rectangle of the drawing's own page before the layout", "[layout][clip]") {
   Drawing d = page_with(100, 100);
   d.layers[0].lines.push_back({{{0, 50}, {100, 50}}});
