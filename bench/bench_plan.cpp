@@ -18,6 +18,7 @@
 #include "spatial/mst.hpp"
 #include "svg/svg_reader.hpp"
 #include "plan/planner.hpp"
+#include "plan/strokes.hpp"
 #include "plan/tour.hpp"
 #include "synthetic.hpp"
 #include "util/rng.hpp"
@@ -317,5 +318,42 @@ static void BM_EstimateSeconds(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations() * 20000 * 10);
 }
 BENCHMARK(BM_EstimateSeconds)->Unit(benchmark::kMillisecond);
+
+// Joining a layer's polylines through shared ends (plan::join_polylines), on the two
+// shapes the methods give it: range(0) = 0, 25,000 short hatch lines of which every
+// other pair meets end to end (sketch's ground); 1, one outline of 433,000 points (the
+// tree's). Against BM_CopyLines, the same points copied into strokes and nothing else:
+// the floor any join stands on.
+std::vector<Polyline> join_input(int64_t shape) {
+  Rng rng(5);
+  std::vector<Polyline> lines;
+  if (shape == 0) {
+    for (int i = 0; i < 25000; ++i) {
+      const Vec2 a{rng.uniform() * 200, rng.uniform() * 280};
+      const Vec2 b{a.x + 1 + rng.uniform() * 3, a.y + rng.uniform()};
+      lines.push_back({{a, b}});
+      if (i % 2) lines.push_back({{b, {b.x + 2, b.y + 1}}});
+    }
+  } else {
+    Polyline pl;
+    for (int i = 0; i < 433000; ++i) pl.pts.push_back({100 + 80 * std::cos(i * 1e-4) + rng.uniform() * 0.01, 140 + 80 * std::sin(i * 1e-4)});
+    lines.push_back(std::move(pl));
+  }
+  return lines;
+}
+static void BM_JoinPolylines(benchmark::State& state) {
+  const std::vector<Polyline> lines = join_input(state.range(0));
+  for (auto _ : state) benchmark::DoNotOptimize(plan::join_polylines(lines, 0.05).data());
+}
+BENCHMARK(BM_JoinPolylines)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+static void BM_CopyLines(benchmark::State& state) {
+  const std::vector<Polyline> lines = join_input(state.range(0));
+  for (auto _ : state) {
+    std::vector<Stroke> out;
+    for (const Polyline& pl : lines) out.push_back({pl.pts});
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+BENCHMARK(BM_CopyLines)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();
