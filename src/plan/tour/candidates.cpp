@@ -15,9 +15,9 @@ Candidates nearest_candidates(const std::vector<Vec2>& pts, const std::vector<in
   if (n == 0) return c;
   const spatial::PlaneKnn knn(pts, n);
   // Each node's row on its own: rows in parallel, the same list on any thread count
-  // (below ~20k nodes a thread costs more than it saves).
+  // (below ~2,000 nodes a thread costs more than it saves).
   const int64_t rows = static_cast<int64_t>(n) + 1;
-#pragma omp parallel num_threads(thread_count()) if (rows >= 20'000)
+#pragma omp parallel num_threads(thread_count()) if (rows >= 2'000)
   {
     // Two more than k: the node itself and its partner are dropped.
     std::vector<uint32_t> idx(c.k + 2);

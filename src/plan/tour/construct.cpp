@@ -92,7 +92,7 @@ class Fragments {
 
 // Candidate edges (each once) sorted by length, ties by (node, rank): 64-bit keys of
 // the float length's bits (ordered like the lengths, all being >= 0) and the slot.
-// On threads from 20k nodes: each thread keys and sorts a block of rows, and the blocks
+// On threads from 8,000 nodes: each thread keys and sorts a block of rows, and the blocks
 // are merged; the keys are distinct, so the list is the same on any thread count.
 std::vector<uint64_t> sorted_candidate_edges(const std::vector<Vec2>& pts, const Candidates& cand) {
   const uint32_t n = static_cast<uint32_t>(pts.size()), k = cand.k;
@@ -113,7 +113,7 @@ std::vector<uint64_t> sorted_candidate_edges(const std::vector<Vec2>& pts, const
     }
     std::sort(keys.begin(), keys.end());
   };
-  const int parts = n >= 20'000 && !in_parallel_part() ? std::max(1, thread_count()) : 1;
+  const int parts = n >= 8'000 && !in_parallel_part() ? std::max(1, thread_count()) : 1;
   std::vector<std::vector<uint64_t>> part(static_cast<size_t>(parts));
 #pragma omp parallel for num_threads(parts) schedule(static, 1) if (parts > 1)
   for (int t = 0; t < parts; ++t)
@@ -140,7 +140,7 @@ void join_fragment_ends(const std::vector<Vec2>& pts, Fragments& frag) {
     // Each end's nearest on every thread (the searches only read); the keys are distinct,
     // so once sorted they are the same in whatever order the threads found them.
     std::vector<std::vector<uint64_t>> found(static_cast<size_t>(std::max(1, thread_count())));
-#pragma omp parallel num_threads(thread_count()) if (m >= 20000 && !in_parallel_part())
+#pragma omp parallel num_threads(thread_count()) if (m >= 4'000 && !in_parallel_part())
     {
       std::vector<uint32_t> idx(k + 1);
       std::vector<double> d2(k + 1);
