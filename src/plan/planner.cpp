@@ -33,11 +33,12 @@ void PlanOptions::validate() const {
 namespace {
 
 // Appends make(0) .. make(n - 1) to out in that order, made on every thread when there
-// are many (a pointillist's 100,000 filled discs, each a spiral of sines and cosines).
+// are more than a few hundred (a pointillist's filled discs, each a spiral of sines and
+// cosines, come a few thousand a pen).
 // The first error any of them throws is thrown. O(n) calls.
 template <class Make>
 void append_made(std::vector<Stroke>& out, size_t n, const Make& make) {
-  constexpr size_t kWorthThreads = 4096;
+  constexpr size_t kWorthThreads = 512;
   const size_t first = out.size();
   out.resize(first + n);
   if (n < kWorthThreads || thread_count() < 2 || in_parallel_part()) {
@@ -45,7 +46,7 @@ void append_made(std::vector<Stroke>& out, size_t n, const Make& make) {
     return;
   }
   FirstError error;
-#pragma omp parallel for schedule(dynamic, 256) num_threads(thread_count())
+#pragma omp parallel for schedule(dynamic, 64) num_threads(thread_count())
   for (long i = 0; i < static_cast<long>(n); ++i) {
     if (error.failed()) continue;
     error.capture([&] { out[first + static_cast<size_t>(i)] = make(static_cast<size_t>(i)); });

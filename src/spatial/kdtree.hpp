@@ -156,7 +156,7 @@ KdTree<D, T>::KdTree(size_t n, Coord&& coord, const std::array<double, D>& split
   }
   if (m > 0) {
     nodes_.resize(nodes_of(m));
-    const bool tasks = m >= 50'000 && thread_count() > 1 && !in_parallel_part();
+    const bool tasks = m >= 8'000 && thread_count() > 1 && !in_parallel_part();
     if (tasks) {
 #pragma omp parallel num_threads(thread_count())
 #pragma omp single
@@ -213,7 +213,7 @@ void KdTree<D, T>::build(uint32_t me, uint32_t b, uint32_t e, std::vector<Item>&
     median_split(items, b, mid, e, dim, std::make_integer_sequence<int, D>{});
     nd.left = me + 1;
     nd.right = me + 1 + nodes_of(mid - b);
-    if (tasks && e - b >= 20'000) {  // a task each for large subtrees; small ones run here
+    if (tasks && e - b >= 2'000) {  // a task each for large subtrees; small ones run here
 #pragma omp task default(shared) firstprivate(nd, b, mid)
       build(nd.left, b, mid, items, w, nodes_of, true);
       build(nd.right, mid, e, items, w, nodes_of, true);
