@@ -27,7 +27,11 @@ void set_thread_count(int n) {
   // --threads 1 must be one thread there too. 0 is OpenCV's "no threads": an arena of one
   // would cap its TBB pool at one worker for the rest of the process (a later count of 2
   // ignored, with a warning).
-  const int count = thread_count();
+  // At most one a core there: OpenCV's TBB pool refuses more, with a warning on stderr.
+  int count = thread_count();
+#ifdef _OPENMP
+  count = std::min(count, omp_get_num_procs());
+#endif
   cv::setNumThreads(count > 1 ? count : 0);
 }
 

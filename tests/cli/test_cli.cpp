@@ -1,8 +1,10 @@
 // The CLI end to end: every variant runs, --json is one line, bad input is one line and
 // a non-zero exit with no output file left behind.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include "test_util.hpp"
@@ -58,6 +60,19 @@ TEST_CASE("stipple with 1 and 2 threads (--threads) writes the same drawing bit 
   r = test::run_cli(base + t.file("bad.svg") + " --threads 100000");  // more than any machine: refused, not a crash
   CHECK(r.exit_code == 1);
   CHECK(r.err.find("--threads") != std::string::npos);
+}
+
+TEST_CASE("more threads than the machine has cores: the same drawing and not a word on stderr", "[cli][threads]") {
+  // OpenCV's TBB pool refuses more workers than cores and said so on stderr (--threads 3
+  // on two cores); its count is capped at the cores, the OpenMP parts take what is asked.
+  test::TempDir t;
+  const std::string base = "stipple " + test::example("coffee.png") + " -q -o ";
+  const unsigned more = 2 * std::max(1u, std::thread::hardware_concurrency()) + 1;
+  REQUIRE(test::run_cli(base + t.file("one.svg") + " --threads 1").exit_code == 0);
+  const auto r = test::run_cli(base + t.file("many.svg") + " --threads " + std::to_string(more));
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.err.empty());
+  CHECK(test::read_file(t.file("one.svg")) == test::read_file(t.file("many.svg")));
 }
 
 TEST_CASE("sketch and tree and pointillism with 1 and 2 threads write the same drawing bit for bit", "[cli][threads]") {

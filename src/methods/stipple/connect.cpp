@@ -107,16 +107,35 @@ bool lifted(const StippleCanvas& c, const pds::RadiusTable& radius, double wides
 double connect_solid_pitch_mm(double pen_mm, double fade) { return std::max(0.9 * pen_mm, pen_mm / std::max(fade, 1e-3)); }
 
 namespace {
+// Grids of this many cells or more are filtered on every thread.
+constexpr size_t kParallelCells = 1'000'000;
+
 // Cells of `in` whose (2h+1)^2 square around them lies wholly inside (erode) or touches
-// an inside cell (dilate), by 2-D prefix sums. O(cells).
+// an inside cell (dilate), by 2-D prefix sums. O(cells). On threads: each row's prefix
+// on its own, then the rows added down each block of columns, then the output by rows;
+// the sums are whole numbers, the same on any thread count.
 std::vector<uint8_t> square_filter(const std::vector<uint8_t>& in, int w, int h, int half, bool erode) {
-  std::vector<uint32_t> sum(static_cast<size_t>(w + 1) * static_cast<size_t>(h + 1), 0);
   const size_t W = static_cast<size_t>(w) + 1;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      sum[(y + 1) * W + x + 1] = sum[y * W + x + 1] + sum[(y + 1) * W + x] - sum[y * W + x] +
-                                 (in[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] ? 1u : 0u);
+  std::vector<uint32_t> sum(W * static_cast<size_t>(h + 1), 0);
+  const bool par = in.size() >= kParallelCells;
+#pragma omp parallel for num_threads(thread_count()) schedule(static) if (par)
+  for (int y = 0; y < h; ++y) {
+    uint32_t* row = &sum[static_cast<size_t>(y + 1) * W];
+    const uint8_t* src = &in[static_cast<size_t>(y) * static_cast<size_t>(w)];
+    for (int x = 0; x < w; ++x) row[x + 1] = row[x] + (src[x] ? 1u : 0u);
+  }
+  constexpr int kColumns = 1024;
+#pragma omp parallel for num_threads(thread_count()) schedule(static) if (par)
+  for (int x0 = 0; x0 < static_cast<int>(W); x0 += kColumns) {
+    const size_t x1 = std::min(W, static_cast<size_t>(x0) + kColumns);
+    for (int y = 1; y <= h; ++y) {
+      uint32_t* row = &sum[static_cast<size_t>(y) * W];
+      const uint32_t* above = row - W;
+      for (size_t x = static_cast<size_t>(x0); x < x1; ++x) row[x] += above[x];
+    }
+  }
   std::vector<uint8_t> out(in.size(), 0);
+#pragma omp parallel for num_threads(thread_count()) schedule(static) if (par)
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const int x0 = std::max(0, x - half), x1 = std::min(w, x + half + 1), y0 = std::max(0, y - half),
@@ -135,9 +154,13 @@ std::vector<uint8_t> connect_solid_cells(const StippleCanvas& c, const ConnectPa
   const int w = c.grid.image.width, h = c.grid.image.height;
   const auto& plane = c.planes[c.passes[0].plane];
   std::vector<uint8_t> solid(plane.size(), 0);
+  // Which levels are solid, once; then each cell looks its level up.
+  std::array<uint8_t, 256> solid_level{};
+  for (int v = 0; v < 256; ++v) solid_level[static_cast<size_t>(v)] = p.fade * pass_tone(c.passes[0].ink, v) >= p.solid_tone;
   bool any = false;
-  for (size_t i = 0; i < plane.size(); ++i)
-    if (p.fade * pass_tone(c.passes[0].ink, plane[i]) >= p.solid_tone) solid[i] = 1, any = true;
+#pragma omp parallel for num_threads(thread_count()) schedule(static) reduction(|| : any) if (plane.size() >= kParallelCells)
+  for (long i = 0; i < static_cast<long>(plane.size()); ++i)
+    if (solid_level[plane[static_cast<size_t>(i)]]) solid[static_cast<size_t>(i)] = 1, any = true;
   if (!any) return solid;
   const int half = static_cast<int>(std::lround(p.solid_open / c.grid.cell_mm));
   if (half <= 0) return solid;
@@ -157,8 +180,9 @@ Drawing connect_on_page(const StippleCanvas& c, const ConnectParams& p, ConnectS
   const std::vector<uint8_t> solid = connect_solid_cells(c, p);
   std::vector<uint8_t> plane = c.planes[c.passes[0].plane];
   size_t solid_cells = 0;
-  for (size_t i = 0; i < plane.size(); ++i)
-    if (solid[i]) plane[i] = 255, ++solid_cells;
+#pragma omp parallel for num_threads(thread_count()) schedule(static) reduction(+ : solid_cells) if (plane.size() >= kParallelCells)
+  for (long i = 0; i < static_cast<long>(plane.size()); ++i)
+    if (solid[static_cast<size_t>(i)]) plane[static_cast<size_t>(i)] = 255, ++solid_cells;
   Rng rng(p.seed);
   const auto order = c.method == StippleMethod::Random ? pds::random_order(plane.size(), rng)
                                                        : pds::grayscale_order(plane, rng);
@@ -217,9 +241,14 @@ Drawing connect_on_page(const StippleCanvas& c, const ConnectParams& p, ConnectS
       }
       run.pts.clear();
     };
+    // Each link's lift on every thread (each reads the grid alone), then the runs in order.
+    std::vector<uint8_t> lift(path.size(), 0);
+#pragma omp parallel for num_threads(thread_count()) schedule(dynamic, 4096) if (path.size() >= 20'000)
+    for (long i = 1; i < static_cast<long>(path.size()); ++i)
+      lift[static_cast<size_t>(i)] = lifted(c, radius, widest, tone, p, pos[path[static_cast<size_t>(i) - 1]], pos[path[static_cast<size_t>(i)]]);
     for (size_t i = 1; i < path.size(); ++i) {
-      const Vec2 a = pos[path[i - 1]], b = pos[path[i]];
-      if (lifted(c, radius, widest, tone, p, a, b)) {
+      const Vec2 b = pos[path[i]];
+      if (lift[i]) {
         ++st.lifted;
         flush();
       } else {
