@@ -5,12 +5,12 @@
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
 #include <new>
 #include <utility>
-#include <cstdlib>
 
 #include "util/error.hpp"
 
