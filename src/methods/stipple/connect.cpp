@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include <opencv2/imgproc.hpp>
+
 #include "methods/hatch/hatch_lines.hpp"
 #include "plan/tour.hpp"
 #include "util/error.hpp"
@@ -107,45 +109,17 @@ bool lifted(const StippleCanvas& c, const pds::RadiusTable& radius, double wides
 double connect_solid_pitch_mm(double pen_mm, double fade) { return std::max(0.9 * pen_mm, pen_mm / std::max(fade, 1e-3)); }
 
 namespace {
-// Grids of this many cells or more are filtered on every thread.
+// Grids of this many cells or more are gone through on every thread.
 constexpr size_t kParallelCells = 1'000'000;
 
-// Cells of `in` whose (2h+1)^2 square around them lies wholly inside (erode) or touches
-// an inside cell (dilate), by 2-D prefix sums. O(cells). On threads: each row's prefix
-// on its own, then the rows added down each block of columns, then the output by rows;
-// the sums are whole numbers, the same on any thread count.
-std::vector<uint8_t> square_filter(const std::vector<uint8_t>& in, int w, int h, int half, bool erode) {
-  const size_t W = static_cast<size_t>(w) + 1;
-  std::vector<uint32_t> sum(W * static_cast<size_t>(h + 1), 0);
-  const bool par = in.size() >= kParallelCells;
-#pragma omp parallel for num_threads(thread_count()) schedule(static) if (par)
-  for (int y = 0; y < h; ++y) {
-    uint32_t* row = &sum[static_cast<size_t>(y + 1) * W];
-    const uint8_t* src = &in[static_cast<size_t>(y) * static_cast<size_t>(w)];
-    for (int x = 0; x < w; ++x) row[x + 1] = row[x] + (src[x] ? 1u : 0u);
-  }
-  constexpr int kColumns = 1024;
-#pragma omp parallel for num_threads(thread_count()) schedule(static) if (par)
-  for (int x0 = 0; x0 < static_cast<int>(W); x0 += kColumns) {
-    const size_t x1 = std::min(W, static_cast<size_t>(x0) + kColumns);
-    for (int y = 1; y <= h; ++y) {
-      uint32_t* row = &sum[static_cast<size_t>(y) * W];
-      const uint32_t* above = row - W;
-      for (size_t x = static_cast<size_t>(x0); x < x1; ++x) row[x] += above[x];
-    }
-  }
-  std::vector<uint8_t> out(in.size(), 0);
-#pragma omp parallel for num_threads(thread_count()) schedule(static) if (par)
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const int x0 = std::max(0, x - half), x1 = std::min(w, x + half + 1), y0 = std::max(0, y - half),
-                y1 = std::min(h, y + half + 1);
-      const uint32_t n = sum[y1 * W + x1] - sum[y0 * W + x1] - sum[y1 * W + x0] + sum[y0 * W + x0];
-      // Off the grid counts as outside when eroding: a field's edge at the border stays.
-      const uint32_t full = static_cast<uint32_t>((x1 - x0) * (y1 - y0));
-      out[static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x)] = erode ? n == full : n > 0;
-    }
-  return out;
+// The solid cells opened by a (2h+1)^2 square: kept where such a square wholly inside
+// covers them (OpenCV's erosion then dilation; off the grid does not erode, so a field's
+// edge at the border stays). Exact on a 0/1 mask; OpenCV runs it on its threads. O(cells x h).
+std::vector<uint8_t> open_square(std::vector<uint8_t> cells, int w, int h, int half) {
+  cv::Mat m(h, w, CV_8U, cells.data());
+  const cv::Mat square = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * half + 1, 2 * half + 1));
+  cv::morphologyEx(m, m, cv::MORPH_OPEN, square);
+  return cells;
 }
 }  // namespace
 
@@ -164,7 +138,7 @@ std::vector<uint8_t> connect_solid_cells(const StippleCanvas& c, const ConnectPa
   if (!any) return solid;
   const int half = static_cast<int>(std::lround(p.solid_open / c.grid.cell_mm));
   if (half <= 0) return solid;
-  return square_filter(square_filter(solid, w, h, half, true), w, h, half, false);
+  return open_square(std::move(solid), w, h, half);
 }
 
 bool connect_link_lifted(const StippleCanvas& c, const pds::RadiusTable& radius, const ConnectParams& p, Vec2 a,
@@ -292,7 +266,7 @@ LevelCoverage measured_line_coverage(const StippleCanvas& c, const Drawing& d) {
   const int bands = (rh + kBandRows - 1) / kBandRows;
   std::vector<LevelCoverage> per_band(static_cast<size_t>(bands));
   const auto& plane = c.planes[c.passes[0].plane];
-#pragma omp parallel num_threads(thread_count()) if (static_cast<size_t>(rw) * static_cast<size_t>(rh) >= 1'000'000)
+#pragma omp parallel num_threads(thread_count()) if (static_cast<size_t>(rw) * static_cast<size_t>(rh) >= kParallelCells)
   {
     std::vector<uint8_t> ink;
 #pragma omp for schedule(dynamic, 1)

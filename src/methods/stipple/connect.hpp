@@ -76,7 +76,7 @@ struct ConnectStats {
   double hatch_mm = 0;     // their hatch lines' length (in length_mm too)
 };
 
-// The cells hatched solid (nonzero), row-major over the canvas's grid. O(cells).
+// The cells hatched solid (nonzero), row-major over the canvas's grid. O(cells x the opening's half width).
 std::vector<uint8_t> connect_solid_cells(const StippleCanvas& c, const ConnectParams& p);
 // The hatch pitch of the solid fields at `fade`, mm.
 double connect_solid_pitch_mm(double pen_mm, double fade);
