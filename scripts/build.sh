@@ -7,7 +7,8 @@ dir=${1:-build}
 shift || true
 gen=()
 command -v ninja >/dev/null && gen=(-G Ninja)
-cmake -S . -B "$dir" "${gen[@]}" "$@" >/dev/null
+# Benchmarks in `all` unless the caller says otherwise (scripts/test.sh builds them last).
+cmake -S . -B "$dir" "${gen[@]}" -DSTIPPLOT_BENCH_IN_ALL=ON "$@" >/dev/null
 targets=()
 for t in ${STIPPLOT_TARGETS:-}; do targets+=(--target "$t"); done
 cmake --build "$dir" -j "$(nproc)" "${targets[@]}"

@@ -13,7 +13,8 @@ phase "set-up for the build"
 mkdir -p build
 bash scripts/setup.sh test > build/setup-test.log 2>&1 &
 setup_test=$!
-bash scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DSTIPPLOT_WERROR=ON
+# The benchmarks are built after the tests (below), not before them: nothing tests them.
+bash scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DSTIPPLOT_WERROR=ON -DSTIPPLOT_BENCH_IN_ALL=OFF
 bash scripts/install_link.sh build
 phase "Release build"
 if ! wait "$setup_test"; then
@@ -42,6 +43,12 @@ built_beside=$!
 status=0
 (cd build && OMP_NUM_THREADS=1 nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults') || status=1
 phase "tests"
+# The Google Benchmark programs (bench/), compiled with warnings as errors while the
+# firmware lane still runs (it needs under a core); not while the tests run, whose
+# install test packs the build tree with cpack (a second ninja in the same folder).
+nice -n 10 cmake --build build -j "$(nproc)" --target benchmarks >build/ci-benchmarks.log 2>&1 ||
+  { tail -30 build/ci-benchmarks.log >&2; echo "test.sh: building the benchmarks failed" >&2; status=1; }
+phase "benchmarks built"
 wait "$firmware" || status=1
 cat "$fw_log"
 phase "firmware and EBB firmware tests (beside the tests)"
