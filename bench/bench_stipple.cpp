@@ -1,13 +1,17 @@
 // Grayscale-order PDS on a 3840x2160 photo-like image (a=2, b=8) against a literal
 // reference implementation: std::sort of (f, pixel) pairs and a scan of every pixel
-// of the disc in an occupancy bitmap. Run: ./build/bench/bench_stipple
+// of the disc in an occupancy bitmap; the Lloyd relaxation of its dots on 1 and 2
+// threads. Run: ./build/bench/bench_stipple
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "methods/stipple/pds.hpp"
 #include "methods/stipple/stipple.hpp"
 #include "ratio_reporter.hpp"
 #include "synthetic.hpp"
+#include "util/threads.hpp"
 
 namespace {
 
@@ -111,6 +115,51 @@ void BM_StippleVariant(benchmark::State& state) {
 }
 BENCHMARK(BM_StippleVariant)->DenseRange(0, 5)->Unit(benchmark::kMillisecond);
 
+// Lloyd relaxation (relax_points, 6 iterations as the tone law's default) of the
+// grayscale-order dots of the photo, on 1 and 2 threads (range(0)); its floor, the same
+// iterations of one pass reading every cell's weight. Real time: the second thread's
+// work is not the caller's.
+const std::vector<Vec2>& relax_start() {
+  static const std::vector<Vec2> pts = [] {
+    Rng rng(1);
+    const auto radius = pds::RadiusTable::linear(A, B, false);
+    std::vector<Vec2> p;
+    for (uint32_t idx : pds::sample(W, H, image(), radius, pds::grayscale_order(image(), rng)))
+      p.push_back({idx % W + 0.5, idx / W + 0.5});
+    return p;
+  }();
+  return pts;
+}
+constexpr int kRelaxIterations = 6;
+
+void BM_Relax(benchmark::State& state) {
+  const auto radius = pds::RadiusTable::linear(A, B, false);
+  set_thread_count(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    std::vector<Vec2> pts = relax_start();
+    relax_points(pts, image(), radius, W, H, kRelaxIterations);
+    benchmark::DoNotOptimize(pts.data());
+  }
+  set_thread_count(0);
+  state.counters["dots"] = static_cast<double>(relax_start().size());
+}
+BENCHMARK(BM_Relax)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+
+void BM_RelaxCellPass(benchmark::State& state) {
+  const auto radius = pds::RadiusTable::linear(A, B, false);
+  std::array<double, 256> weight{};
+  for (int v = 0; v < 256; ++v) weight[static_cast<size_t>(v)] = 1 / std::pow(radius.r[v], 4);
+  for (auto _ : state) {
+    double sum = 0;
+    for (int it = 0; it < kRelaxIterations; ++it)
+      for (uint8_t v : image()) sum += weight[v];
+    benchmark::DoNotOptimize(sum);
+  }
+}
+BENCHMARK(BM_RelaxCellPass)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+
 }  // namespace
 
-STIPPLOT_BENCH_MAIN({{"BM_GrayscalePDS", "BM_ReferencePDS"}})
+STIPPLOT_BENCH_MAIN({{"BM_GrayscalePDS", "BM_ReferencePDS"},
+                     {"BM_Relax/1", "BM_RelaxCellPass"},
+                     {"BM_Relax/2", "BM_Relax/1"}})

@@ -57,26 +57,34 @@ void relax_serial(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
 }  // namespace
 
 TEST_CASE("relaxation gives the same dots bit for bit on 1, 2 or 3 threads, and as one plain pass", "[stipple][threads]") {
-  const int w = 157, h = 213;  // bands of rows (16 and 64) that do not divide the height
-  Rng rng(7);
-  std::vector<uint8_t> plane(static_cast<size_t>(w) * h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)  // a ramp with noise, and a white corner no dot may enter
-      plane[static_cast<size_t>(y) * w + x] =
-          x > 130 && y < 20 ? 255 : static_cast<uint8_t>(std::min(254.0, 255.0 * x / w + rng.below(40)));
-  const pds::RadiusTable radius = pds::RadiusTable::tone(1.2, 6);
-  std::vector<Vec2> start;
-  for (int i = 0; i < 2000; ++i) start.push_back({rng.uniform() * w, rng.uniform() * h});
-  std::vector<Vec2> expect = start;
-  relax_serial(expect, plane, radius, w, h, 4);
-  for (int threads : {1, 2, 3}) {
-    set_thread_count(threads);
-    std::vector<Vec2> got = start;
-    relax_points(got, plane, radius, w, h, 4);
-    INFO(threads << " threads");
-    REQUIRE(got.size() == expect.size());
-    CHECK(std::memcmp(got.data(), expect.data(), got.size() * sizeof(Vec2)) == 0);
-    CHECK(got != start);  // the dots moved
+  struct Case {
+    int w, h, dots;
+    double a, b;
+  };
+  // Bands of rows (16 and 64) that do not divide the height; 24,000 dots (windows found on
+  // threads from 20,000); radii to 40 cells (windows of 120 rows, over three bands of 64).
+  for (const Case& c : {Case{157, 213, 2000, 1.2, 6}, Case{430, 389, 24000, 1.2, 6}, Case{331, 297, 300, 4, 40}}) {
+    const int w = c.w, h = c.h;
+    Rng rng(7);
+    std::vector<uint8_t> plane(static_cast<size_t>(w) * h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)  // a ramp with noise, and a white corner no dot may enter
+        plane[static_cast<size_t>(y) * w + x] =
+            x > w - 27 && y < 20 ? 255 : static_cast<uint8_t>(std::min(254.0, 255.0 * x / w + rng.below(40)));
+    const pds::RadiusTable radius = pds::RadiusTable::tone(c.a, c.b);
+    std::vector<Vec2> start;
+    for (int i = 0; i < c.dots; ++i) start.push_back({rng.uniform() * w, rng.uniform() * h});
+    std::vector<Vec2> expect = start;
+    relax_serial(expect, plane, radius, w, h, 4);
+    for (int threads : {1, 2, 3}) {
+      set_thread_count(threads);
+      std::vector<Vec2> got = start;
+      relax_points(got, plane, radius, w, h, 4);
+      INFO(w << "x" << h << ", " << c.dots << " dots, " << threads << " threads");
+      REQUIRE(got.size() == expect.size());
+      CHECK(std::memcmp(got.data(), expect.data(), got.size() * sizeof(Vec2)) == 0);
+      CHECK(got != start);  // the dots moved
+    }
   }
   set_thread_count(0);
 }

@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "util/error.hpp"
+#include "util/threads.hpp"
 
 namespace stipplot {
 
@@ -435,17 +436,46 @@ void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
     double x = 0, y = 0, w = 0;
   };
   std::vector<Sum> sums(pts.size());
+  constexpr int kSumRows = 64;
+  const int sum_bands = (h + kSumRows - 1) / kSumRows;
+  struct Run {  // cells x0..x1 of row y, all dot k's
+    uint32_t k, y, x0, x1;
+  };
+  // A band's runs of dots whose windows cross its edges, by how many bands above it the
+  // dot's window starts.
+  std::vector<std::vector<std::vector<Run>>> crossing_runs(static_cast<size_t>(sum_bands));
+  // The windows and the bands they reach on every thread: each thread a block of dots
+  // in index order, its own list a band, the blocks' lists joined in order (so each
+  // band's list is in index order on any thread count).
+  const int parts = pts.size() >= 20'000 ? std::max(1, thread_count()) : 1;
+  std::vector<std::vector<std::vector<uint32_t>>> part_reaching(
+      static_cast<size_t>(parts), std::vector<std::vector<uint32_t>>(static_cast<size_t>(bands)));
   for (int it = 0; it < iterations; ++it) {
-    for (auto& r : reaching) r.clear();
-    for (uint32_t k = 0; k < pts.size(); ++k) {
-      const int cx = std::clamp(static_cast<int>(pts[k].x), 0, w - 1), cy = std::clamp(static_cast<int>(pts[k].y), 0, h - 1);
-      const uint8_t v = plane[static_cast<size_t>(cy) * static_cast<size_t>(w) + static_cast<size_t>(cx)];
-      const double reach = 1.5 * (radius.none(v) ? radius.min() : radius.r[v]);
-      Window& wk = win[k];
-      wk.x0 = std::max(0, static_cast<int>(pts[k].x - reach)), wk.x1 = std::min(w - 1, static_cast<int>(pts[k].x + reach));
-      wk.y0 = std::max(0, static_cast<int>(pts[k].y - reach)), wk.y1 = std::min(h - 1, static_cast<int>(pts[k].y + reach));
-      for (int b = wk.y0 / kBandRows; wk.y0 <= wk.y1 && b <= wk.y1 / kBandRows; ++b)
-        reaching[static_cast<size_t>(b)].push_back(k);
+#pragma omp parallel for num_threads(parts) schedule(static, 1) if (parts > 1)
+    for (int t = 0; t < parts; ++t) {
+      auto& mine = part_reaching[static_cast<size_t>(t)];
+      for (auto& r : mine) r.clear();
+      const size_t from = pts.size() * static_cast<size_t>(t) / static_cast<size_t>(parts),
+                   to = pts.size() * static_cast<size_t>(t + 1) / static_cast<size_t>(parts);
+      for (uint32_t k = static_cast<uint32_t>(from); k < to; ++k) {
+        const int cx = std::clamp(static_cast<int>(pts[k].x), 0, w - 1), cy = std::clamp(static_cast<int>(pts[k].y), 0, h - 1);
+        const uint8_t v = plane[static_cast<size_t>(cy) * static_cast<size_t>(w) + static_cast<size_t>(cx)];
+        const double reach = 1.5 * (radius.none(v) ? radius.min() : radius.r[v]);
+        Window& wk = win[k];
+        wk.x0 = std::max(0, static_cast<int>(pts[k].x - reach)), wk.x1 = std::min(w - 1, static_cast<int>(pts[k].x + reach));
+        wk.y0 = std::max(0, static_cast<int>(pts[k].y - reach)), wk.y1 = std::min(h - 1, static_cast<int>(pts[k].y + reach));
+        for (int b = wk.y0 / kBandRows; wk.y0 <= wk.y1 && b <= wk.y1 / kBandRows; ++b)
+          mine[static_cast<size_t>(b)].push_back(k);
+      }
+    }
+#pragma omp parallel for schedule(dynamic, 8) if (parts > 1)
+    for (int b = 0; b < bands; ++b) {
+      auto& r = reaching[static_cast<size_t>(b)];
+      r.clear();
+      for (int t = 0; t < parts; ++t) {
+        const auto& mine = part_reaching[static_cast<size_t>(t)][static_cast<size_t>(b)];
+        r.insert(r.end(), mine.begin(), mine.end());
+      }
     }
 #pragma omp parallel for schedule(dynamic, 1)
     for (int b = 0; b < bands; ++b) {
@@ -496,56 +526,74 @@ void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
     // Each dot's centroid: its cells summed in row order, the order a walk over its own
     // window takes them, so its sums are the same bit for bit however the work is split.
     // Bands of rows in parallel, each summing in one pass over its cells (each cell read
-    // once) the dots whose windows lie inside it; then the dots whose windows cross a
-    // band's edge (a few in ten), each over its own window. A run of one dot's cells along
-    // a row is summed in registers, then stored.
+    // once) the dots whose windows lie inside it, and noting the runs of cells of the
+    // dots whose windows cross a band's edge (a few in ten). Those are summed in rounds:
+    // round p, on every band at once, the runs of the dots whose windows start p bands
+    // above it, so each such dot gets its rows in order, one band a round. A run of one
+    // dot's cells along a row is summed in registers, then stored. (A run has no gaps: a
+    // cell between two of a dot's cells on a row lies in its window, so a dot reaches it.)
     std::fill(sums.begin(), sums.end(), Sum{});
-    constexpr int kSumRows = 64;
     auto band_of = [&](uint32_t k) {  // the band holding k's whole window, or -1
       const Window& wk = win[k];
       return wk.y0 <= wk.y1 && wk.y0 / kSumRows == wk.y1 / kSumRows ? wk.y0 / kSumRows : -1;
     };
     constexpr uint32_t kNoRun = std::numeric_limits<uint32_t>::max();
 #pragma omp parallel for schedule(dynamic, 1)
-    for (int b = 0; b < (h + kSumRows - 1) / kSumRows; ++b) {
+    for (int b = 0; b < sum_bands; ++b) {
+      std::vector<std::vector<Run>>& runs = crossing_runs[static_cast<size_t>(b)];
+      for (auto& r : runs) r.clear();
       for (int y = b * kSumRows; y < std::min(h, (b + 1) * kSumRows); ++y) {
         const size_t row = static_cast<size_t>(y) * static_cast<size_t>(w);
         uint32_t run = kNoRun;
+        int run_x0 = 0, run_x1 = 0;
         bool mine = false;  // the run's dot lies inside this band
         Sum s;
+        auto end_run = [&] {
+          if (run == kNoRun) return;
+          if (mine) sums[run] = s;
+          else {
+            const size_t above = static_cast<size_t>(b - win[run].y0 / kSumRows);
+            if (runs.size() <= above) runs.resize(above + 1);
+            runs[above].push_back({run, static_cast<uint32_t>(y), static_cast<uint32_t>(run_x0), static_cast<uint32_t>(run_x1)});
+          }
+        };
         for (int x = 0; x < w; ++x) {
           const size_t i = row + static_cast<size_t>(x);
           if (!std::isfinite(best[i])) continue;  // no dot reached it (owner is stale)
           if (owner[i] != run) {
-            if (mine) sums[run] = s;
+            end_run();
             run = owner[i];
+            run_x0 = x;
             mine = band_of(run) == b;
             if (mine) s = sums[run];
           }
+          run_x1 = x;
           if (!mine) continue;
           const double wt = weight[plane[i]];
           s.x += wt * (x + 0.5), s.y += wt * (y + 0.5), s.w += wt;
         }
-        if (mine) sums[run] = s;
+        end_run();
       }
     }
-    std::vector<uint32_t> crossing;
-    for (uint32_t k = 0; k < pts.size(); ++k)
-      if (win[k].y0 <= win[k].y1 && band_of(k) < 0) crossing.push_back(k);
-#pragma omp parallel for schedule(dynamic, 64)
-    for (size_t j = 0; j < crossing.size(); ++j) {
-      const uint32_t k = crossing[j];
-      const Window& wk = win[k];
-      Sum s;
-      for (int y = wk.y0; y <= wk.y1; ++y)
-        for (int x = wk.x0; x <= wk.x1; ++x) {
-          const size_t i = static_cast<size_t>(y) * static_cast<size_t>(w) + static_cast<size_t>(x);
-          if (!std::isfinite(best[i]) || owner[i] != k) continue;
-          const double wt = weight[plane[i]];
-          s.x += wt * (x + 0.5), s.y += wt * (y + 0.5), s.w += wt;
+    size_t rounds = 0;
+    for (const auto& runs : crossing_runs) rounds = std::max(rounds, runs.size());
+    for (size_t round = 0; round < rounds; ++round) {
+#pragma omp parallel for schedule(dynamic, 1)
+      for (int b = 0; b < sum_bands; ++b) {
+        if (crossing_runs[static_cast<size_t>(b)].size() <= round) continue;
+        for (const Run& r : crossing_runs[static_cast<size_t>(b)][round]) {
+          const size_t row = static_cast<size_t>(r.y) * static_cast<size_t>(w);
+          const int y = static_cast<int>(r.y);
+          Sum s = sums[r.k];
+          for (int x = static_cast<int>(r.x0); x <= static_cast<int>(r.x1); ++x) {
+            const double wt = weight[plane[row + static_cast<size_t>(x)]];
+            s.x += wt * (x + 0.5), s.y += wt * (y + 0.5), s.w += wt;
+          }
+          sums[r.k] = s;
         }
-      sums[k] = s;
+      }
     }
+#pragma omp parallel for schedule(static) if (parts > 1)
     for (size_t k = 0; k < pts.size(); ++k)
       if (sums[k].w > 0) pts[k] = {sums[k].x / sums[k].w, sums[k].y / sums[k].w};
   }
