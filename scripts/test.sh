@@ -13,7 +13,7 @@ phase "set-up for the build"
 mkdir -p build
 bash scripts/setup.sh test > build/setup-test.log 2>&1 &
 setup_test=$!
-# The benchmarks are built after the tests (below), not before them: nothing tests them.
+# The benchmarks are built beside the tests (below), not before them: nothing tests them.
 bash scripts/build.sh build -DCMAKE_BUILD_TYPE=Release -DSTIPPLOT_WERROR=ON -DSTIPPLOT_BENCH_IN_ALL=OFF
 bash scripts/install_link.sh build
 phase "Release build"
@@ -37,24 +37,21 @@ phase "set-up for the tests"
 fw_log=build/ci-firmware.log
 (cd build && OMP_NUM_THREADS=1 ctest --output-on-failure -L firmware && OMP_NUM_THREADS=1 ctest --output-on-failure -L ebb) >"$fw_log" 2>&1 &
 firmware=$!
-(nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" && nice -n 19 bash scripts/fuzz.sh build) \
-  >build/ci-build-beside.log 2>&1 &
+# The Google Benchmark programs (bench/: nothing tests them) build last in that lane, also
+# at nice 19; the install test, which packs the build tree with cpack (a second ninja in
+# the same folder), waits for them (label install, run beside the real-time tests).
+(nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" && nice -n 19 bash scripts/fuzz.sh build &&
+  nice -n 19 cmake --build build -j "$(nproc)" --target benchmarks) >build/ci-build-beside.log 2>&1 &
 built_beside=$!
 status=0
-(cd build && OMP_NUM_THREADS=1 nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults') || status=1
+(cd build && OMP_NUM_THREADS=1 nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults|install') || status=1
 phase "tests"
-# The Google Benchmark programs (bench/), compiled with warnings as errors while the
-# firmware lane still runs (it needs under a core); not while the tests run, whose
-# install test packs the build tree with cpack (a second ninja in the same folder).
-nice -n 10 cmake --build build -j "$(nproc)" --target benchmarks >build/ci-benchmarks.log 2>&1 ||
-  { tail -30 build/ci-benchmarks.log >&2; echo "test.sh: building the benchmarks failed" >&2; status=1; }
-phase "benchmarks built"
 wait "$firmware" || status=1
 cat "$fw_log"
 phase "firmware and EBB firmware tests (beside the tests)"
 if ! wait "$built_beside"; then
   tail -30 build/ci-build-beside.log >&2
-  echo "test.sh: building ebb_sim or the fuzz targets failed" >&2
+  echo "test.sh: building ebb_sim, the fuzz targets or the benchmarks failed" >&2
   status=1
 fi
 [ "$status" -eq 0 ] || exit 1
@@ -66,12 +63,14 @@ phase "simulator fault tests"
 [ "$status" -eq 0 ] || exit 1
 # [realtime] times a simulated plot against the wall clock, one test at a time; it sleeps
 # most of that time, so the fuzz targets run meanwhile at nice 19 (a fuzzer's run is so
-# many wall-clock seconds; the tests keep their CPU whenever they want it).
-nice -n 19 bash scripts/fuzz.sh run >build/ci-fuzz-run.log 2>&1 &
+# many wall-clock seconds; the tests keep their CPU whenever they want it), then the
+# install test, also at nice 19.
+(nice -n 19 bash scripts/fuzz.sh run && cd build && OMP_NUM_THREADS=1 nice -n 19 ctest --output-on-failure -L install) \
+  >build/ci-fuzz-run.log 2>&1 &
 fuzz_run=$!
 (cd build && OMP_NUM_THREADS=1 ctest --output-on-failure -L realtime) || status=1
 phase "real-time tests"
 wait "$fuzz_run" || status=1
 cat build/ci-fuzz-run.log
-phase "fuzzing (beside the real-time tests)"
+phase "fuzzing and the install test (beside the real-time tests)"
 [ "$status" -eq 0 ] || exit 1
