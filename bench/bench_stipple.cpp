@@ -88,16 +88,20 @@ void BM_ReferencePDS(benchmark::State& state) {
 }
 BENCHMARK(BM_ReferencePDS)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
-// The two halves of the fast method, to see where time goes.
+// The two halves of the fast method, to see where time goes: the order alone, on 1 and
+// 2 threads (range(0); the same order on both). Real time: the second thread's work is
+// not the caller's.
 void BM_GrayscaleOrderOnly(benchmark::State& state) {
   const auto& d = image();
+  set_thread_count(static_cast<int>(state.range(0)));
   for (auto _ : state) {
     Rng rng(1);
     auto order = pds::grayscale_order(d, rng);
     benchmark::DoNotOptimize(order.data());
   }
+  set_thread_count(0);
 }
-BENCHMARK(BM_GrayscaleOrderOnly)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_GrayscaleOrderOnly)->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 void BM_StippleVariant(benchmark::State& state) {
   static const Image img = Image::from_grey(W, H, image());
@@ -162,4 +166,5 @@ BENCHMARK(BM_RelaxCellPass)->UseRealTime()->Unit(benchmark::kMillisecond)->Itera
 
 STIPPLOT_BENCH_MAIN({{"BM_GrayscalePDS", "BM_ReferencePDS"},
                      {"BM_Relax/1", "BM_RelaxCellPass"},
-                     {"BM_Relax/2", "BM_Relax/1"}})
+                     {"BM_Relax/2", "BM_Relax/1"},
+                     {"BM_GrayscaleOrderOnly/2", "BM_GrayscaleOrderOnly/1"}})

@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "util/error.hpp"
+#include "util/threads.hpp"
 
 namespace stipplot {
 
@@ -89,7 +90,13 @@ std::vector<uint8_t> Image::plane(int c) const {
 
 std::vector<uint8_t> Image::luma() const {
   std::vector<uint8_t> out(pixels());
-  for (size_t i = 0; i < out.size(); ++i) out[i] = luma601(rgb[i * 3], rgb[i * 3 + 1], rgb[i * 3 + 2]);
+  // On every thread from a million pixels (each pixel its own: the same bytes).
+  const long n = static_cast<long>(out.size());
+#pragma omp parallel for num_threads(thread_count()) schedule(static) if (n >= (1L << 20) && !in_parallel_part())
+  for (long i = 0; i < n; ++i) {
+    const size_t p = static_cast<size_t>(i);
+    out[p] = luma601(rgb[p * 3], rgb[p * 3 + 1], rgb[p * 3 + 2]);
+  }
   return out;
 }
 

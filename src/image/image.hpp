@@ -48,7 +48,7 @@ struct Image {
   uint8_t channel(int x, int y, int c) const { return rgb[(static_cast<size_t>(y) * width + x) * 3 + c]; }
   // One channel as a grey plane (0 = R, 1 = G, 2 = B).
   std::vector<uint8_t> plane(int c) const;
-  // Rec. 601 luma, the papers' d in 0..255.
+  // Rec. 601 luma, the papers' d in 0..255. O(pixels), on every thread from a million.
   std::vector<uint8_t> luma() const;
   static Image from_grey(int w, int h, const std::vector<uint8_t>& grey);
 };

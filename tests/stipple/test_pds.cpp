@@ -5,6 +5,7 @@
 #include "methods/stipple/pds.hpp"
 #include "methods/stipple/stipple.hpp"
 #include "test_util.hpp"
+#include "util/threads.hpp"
 
 using namespace stipplot;
 
@@ -64,6 +65,34 @@ TEST_CASE("grayscale order is a permutation, dark first, ties shuffled by the se
   CHECK(o1 != o2);  // different seeds break ties differently
   Rng r1b(1);
   CHECK(pds::grayscale_order(d, r1b) == o1);
+}
+
+TEST_CASE("grayscale order of a million pixels: the same on 1 to 3 threads as one plain pass and the stream left where it leaves it", "[pds][threads]") {
+  // A third of the pixels white (one level larger than a thread's share), the rest noise.
+  const int w = 1100, h = 1000;
+  std::vector<uint8_t> d = noise_image(w, h, 9);
+  for (size_t i = 0; i < d.size(); i += 3) d[i] = 255;
+  // The plain pass: a stable counting sort, then Fisher-Yates level after level.
+  Rng plain(4);
+  std::vector<uint32_t> expect(d.size());
+  std::vector<size_t> start(257, 0);
+  for (uint8_t v : d) ++start[v + 1u];
+  for (int v = 0; v < 256; ++v) start[v + 1] += start[v];
+  std::vector<size_t> fill(start.begin(), start.end() - 1);
+  for (size_t i = 0; i < d.size(); ++i) expect[fill[d[i]]++] = static_cast<uint32_t>(i);
+  for (int v = 0; v < 256; ++v)
+    for (size_t i = start[v + 1] - start[v]; i > 1; --i)
+      std::swap(expect[start[v] + i - 1], expect[start[v] + plain.below(static_cast<uint32_t>(i))]);
+  const uint64_t after = plain.next();
+  for (int threads : {1, 2, 3}) {
+    set_thread_count(threads);
+    Rng rng(4);
+    const std::vector<uint32_t> got = pds::grayscale_order(d, rng);
+    INFO(threads << " threads");
+    CHECK((got == expect));  // (not decomposed: Catch would print a million numbers)
+    CHECK(rng.next() == after);
+  }
+  set_thread_count(0);
 }
 
 TEST_CASE("random order is a uniform-looking permutation", "[pds]") {
