@@ -29,7 +29,8 @@ phase "set-up for the tests"
 # under a core and run at normal priority, as a plotter's host does; after them, in the
 # same lane, the EBB firmware tests (tests/ebb: the EiBotBoard firmware v3.0.2 compiled for
 # the PC, ebb_sim, streaming AxiDraw jobs). The other tests run beside them at nice 10 on
-# every core, and ebb_sim (a second or two) and the fuzz targets build at nice 19.
+# every core, and ebb_sim (a second or two), the fuzz targets and the benchmarks build at
+# nice 19.
 # Tests run several at a time: each on one thread (OMP_NUM_THREADS=1, which --threads 0
 # follows), or N processes of N OpenMP threads spin-wait for each other's cores (the tests'
 # CPU time fell by a third). The tests that compare thread counts set theirs. Not exported:
@@ -39,38 +40,40 @@ fw_log=build/ci-firmware.log
 firmware=$!
 # The Google Benchmark programs (bench/: nothing tests them) build last in that lane, also
 # at nice 19; the install test, which packs the build tree with cpack (a second ninja in
-# the same folder), waits for them (label install, run beside the real-time tests).
+# the same folder), waits for them (label install, run after the other tests).
 (nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" && nice -n 19 bash scripts/fuzz.sh build &&
   nice -n 19 cmake --build build -j "$(nproc)" --target benchmarks) >build/ci-build-beside.log 2>&1 &
 built_beside=$!
 status=0
 (cd build && OMP_NUM_THREADS=1 nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults|install') || status=1
 phase "tests"
-wait "$firmware" || status=1
-cat "$fw_log"
-phase "firmware and EBB firmware tests (beside the tests)"
 if ! wait "$built_beside"; then
   tail -30 build/ci-build-beside.log >&2
   echo "test.sh: building ebb_sim, the fuzz targets or the benchmarks failed" >&2
   status=1
 fi
+[ "$status" -eq 0 ] || { wait "$firmware" || true; cat "$fw_log"; exit 1; }
+# While the firmware lane runs on (it needs under a core): the fuzz targets, one per
+# core, FUZZ_SECONDS (10) each, then the install test (label install: cmake --install and
+# cpack, whose own build step must not run beside the benchmarks' ninja in build/), both
+# at nice 19 (the firmware tests keep their CPU whenever they want it).
+nice -n 19 bash scripts/fuzz.sh run || status=1
+(cd build && OMP_NUM_THREADS=1 nice -n 19 ctest --output-on-failure -L install) || status=1
+phase "fuzzing and the install test (beside the firmware lane)"
+wait "$firmware" || status=1
+cat "$fw_log"
+phase "firmware and EBB firmware tests (beside the tests)"
 [ "$status" -eq 0 ] || exit 1
-# Faults injected into the built-in simulators (label faults), on a machine with nothing
-# else running: the simulators' clocks are the wall clock sped up (with the fuzz build
-# beside them at nice 19, or four at a time, a resume redrew 13 dots where one is allowed).
-(cd build && OMP_NUM_THREADS=1 ctest --output-on-failure -j "$(nproc)" -L faults) || status=1
-phase "simulator fault tests"
-[ "$status" -eq 0 ] || exit 1
-# [realtime] times a simulated plot against the wall clock, one test at a time; it sleeps
-# most of that time, so the fuzz targets run meanwhile at nice 19 (a fuzzer's run is so
-# many wall-clock seconds; the tests keep their CPU whenever they want it), then the
-# install test, also at nice 19.
-(nice -n 19 bash scripts/fuzz.sh run && cd build && OMP_NUM_THREADS=1 nice -n 19 ctest --output-on-failure -L install) \
-  >build/ci-fuzz-run.log 2>&1 &
-fuzz_run=$!
+# Faults injected into the built-in simulators (label faults) beside the real-time tests
+# (label realtime: a simulated plot timed against the wall clock, one at a time), nothing
+# else running: the simulators' clocks are the wall clock sped up, and both sleep most of
+# their 73 s (the machine 92 % idle with the fault tests alone). With the fuzz build beside
+# the fault tests at nice 19, or four of them at a time, a resume redrew 13 dots where one
+# is allowed; with the EBB tests beside these two, the real-time ETA missed its 5 %.
+(cd build && OMP_NUM_THREADS=1 ctest --output-on-failure -j "$(nproc)" -L faults) >build/ci-faults.log 2>&1 &
+faults=$!
 (cd build && OMP_NUM_THREADS=1 ctest --output-on-failure -L realtime) || status=1
-phase "real-time tests"
-wait "$fuzz_run" || status=1
-cat build/ci-fuzz-run.log
-phase "fuzzing and the install test (beside the real-time tests)"
+wait "$faults" || status=1
+cat build/ci-faults.log
+phase "simulator fault tests and real-time tests (side by side)"
 [ "$status" -eq 0 ] || exit 1
