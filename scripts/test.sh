@@ -38,26 +38,33 @@ phase "set-up for the tests"
 fw_log=build/ci-firmware.log
 (cd build && OMP_NUM_THREADS=1 ctest --output-on-failure -L firmware && OMP_NUM_THREADS=1 ctest --output-on-failure -L ebb) >"$fw_log" 2>&1 &
 firmware=$!
-# The Google Benchmark programs (bench/: nothing tests them) build last in that lane, also
-# at nice 19; the install test, which packs the build tree with cpack (a second ninja in
-# the same folder), waits for them (label install, run after the other tests).
-(nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" && nice -n 19 bash scripts/fuzz.sh build &&
-  nice -n 19 cmake --build build -j "$(nproc)" --target benchmarks) >build/ci-build-beside.log 2>&1 &
+(nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" && nice -n 19 bash scripts/fuzz.sh build) \
+  >build/ci-build-beside.log 2>&1 &
 built_beside=$!
+# The Google Benchmark programs (bench/: nothing tests them) build beside, also at nice 19;
+# the install test, which packs the build tree with cpack (a second ninja in the same
+# folder), waits for them (label install, run after the other tests).
+nice -n 19 cmake --build build -j "$(nproc)" --target benchmarks >build/ci-benchmarks.log 2>&1 &
+built_bench=$!
 status=0
 (cd build && OMP_NUM_THREADS=1 nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults|install') || status=1
 phase "tests"
 if ! wait "$built_beside"; then
   tail -30 build/ci-build-beside.log >&2
-  echo "test.sh: building ebb_sim, the fuzz targets or the benchmarks failed" >&2
+  echo "test.sh: building ebb_sim or the fuzz targets failed" >&2
   status=1
 fi
-[ "$status" -eq 0 ] || { wait "$firmware" || true; cat "$fw_log"; exit 1; }
 # While the firmware lane runs on (it needs under a core): the fuzz targets, one per
 # core, FUZZ_SECONDS (10) each, then the install test (label install: cmake --install and
 # cpack, whose own build step must not run beside the benchmarks' ninja in build/), both
 # at nice 19 (the firmware tests keep their CPU whenever they want it).
-nice -n 19 bash scripts/fuzz.sh run || status=1
+[ "$status" -ne 0 ] || nice -n 19 bash scripts/fuzz.sh run || status=1
+if ! wait "$built_bench"; then
+  tail -30 build/ci-benchmarks.log >&2
+  echo "test.sh: building the benchmarks failed" >&2
+  status=1
+fi
+[ "$status" -eq 0 ] || { wait "$firmware" || true; cat "$fw_log"; exit 1; }
 (cd build && OMP_NUM_THREADS=1 nice -n 19 ctest --output-on-failure -L install) || status=1
 phase "fuzzing and the install test (beside the firmware lane)"
 wait "$firmware" || status=1
