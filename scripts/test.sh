@@ -38,13 +38,16 @@ phase "set-up for the tests"
 fw_log=build/ci-firmware.log
 (cd build && OMP_NUM_THREADS=1 ctest --output-on-failure -L firmware && OMP_NUM_THREADS=1 ctest --output-on-failure -L ebb) >"$fw_log" 2>&1 &
 firmware=$!
-(nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" && nice -n 19 bash scripts/fuzz.sh build) \
-  >build/ci-build-beside.log 2>&1 &
+rm -f build/.ci-beside-built
+(set +e; (nice -n 19 sh ../shared/validators/ebb/build.sh "$PWD/build/ebb-sim" && nice -n 19 bash scripts/fuzz.sh build) \
+  >build/ci-build-beside.log 2>&1; rc=$?; touch build/.ci-beside-built; exit "$rc") &
 built_beside=$!
-# The Google Benchmark programs (bench/: nothing tests them) build beside, also at nice 19;
-# the install test, which packs the build tree with cpack (a second ninja in the same
-# folder), waits for them (label install, run after the other tests).
-nice -n 19 cmake --build build -j "$(nproc)" --target benchmarks >build/ci-benchmarks.log 2>&1 &
+# The Google Benchmark programs (bench/: nothing tests them) build beside, also at nice 19,
+# once the fuzz targets are built (the fuzz run waits for those, not for these); the install
+# test, which packs the build tree with cpack (a second ninja in the same folder), waits for
+# them (label install, run after the other tests).
+(while [ ! -e build/.ci-beside-built ]; do sleep 1; done
+ nice -n 19 cmake --build build -j "$(nproc)" --target benchmarks) >build/ci-benchmarks.log 2>&1 &
 built_bench=$!
 status=0
 (cd build && OMP_NUM_THREADS=1 nice -n 10 ctest --output-on-failure -j "$(nproc)" -LE 'firmware|ebb|realtime|faults|install') || status=1
