@@ -58,10 +58,12 @@ if ! wait "$built_beside"; then
   status=1
 fi
 # While the firmware lane runs on (it needs under a core): the fuzz targets, one per
-# core, FUZZ_SECONDS (10) each, then the install test (label install: cmake --install and
-# cpack, whose own build step must not run beside the benchmarks' ninja in build/), both
-# at nice 19 (the firmware tests keep their CPU whenever they want it).
-[ "$status" -ne 0 ] || nice -n 19 bash scripts/fuzz.sh run || status=1
+# core, FUZZ_SECONDS (10) each, at nice 10 like the tests before them (at nice 19, beside
+# the benchmarks' build, they ran a quarter of their inputs), then the install test
+# (label install: cmake --install and cpack, whose own build step must not run beside the
+# benchmarks' ninja in build/) at nice 19; the firmware tests keep their CPU whenever
+# they want it.
+[ "$status" -ne 0 ] || nice -n 10 bash scripts/fuzz.sh run || status=1
 if ! wait "$built_bench"; then
   tail -30 build/ci-benchmarks.log >&2
   echo "test.sh: building the benchmarks failed" >&2
