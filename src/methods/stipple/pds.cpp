@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numeric>
@@ -60,9 +59,8 @@ std::vector<uint32_t> grayscale_order(const std::vector<uint8_t>& d, Rng& rng) {
     const auto [from, to] = block(t);
     for (size_t i = from; i < to; ++i) order[f[d[i]]++] = static_cast<uint32_t>(i);
   }
-  // Groups of levels of about n / parts pixels each. Their streams: the first group's is
-  // the caller's; the others' are found by one task running the stream on, level after
-  // level, while the first group shuffles; a group waits until its stream is known.
+  // Groups of levels of about n / parts pixels each, each from the stream's state where
+  // the levels before it leave it.
   std::vector<int> first_level{0};
   for (int level = 0; level < 256; ++level)
     if (first_level.size() < static_cast<size_t>(parts) && start[level + 1] >= n * first_level.size() / static_cast<size_t>(parts))
@@ -70,25 +68,13 @@ std::vector<uint32_t> grayscale_order(const std::vector<uint8_t>& d, Rng& rng) {
   first_level.push_back(256);
   const int groups = static_cast<int>(first_level.size()) - 1;
   std::vector<Rng> stream(static_cast<size_t>(groups), rng);
-  std::atomic<int> known{1}, next_task{groups > 1 ? 0 : 1};
-  auto draws = [&](Rng& r, int from_level, int to_level) {
-    for (int level = from_level; level < to_level; ++level)
+  for (int g = 1; g < groups; ++g) {
+    Rng& r = stream[static_cast<size_t>(g)] = stream[static_cast<size_t>(g) - 1];
+    for (int level = first_level[static_cast<size_t>(g) - 1]; level < first_level[static_cast<size_t>(g)]; ++level)
       for (size_t i = start[level + 1] - start[level]; i > 1; --i) r.next();
-  };
-#pragma omp parallel num_threads(parts) if (parts > 1)
-  for (int task; (task = next_task.fetch_add(1)) <= groups;) {
-    if (task == 0) {  // the streams
-      Rng r = rng;
-      for (int g = 1; g < groups; ++g) {
-        draws(r, first_level[static_cast<size_t>(g) - 1], first_level[static_cast<size_t>(g)]);
-        stream[static_cast<size_t>(g)] = r;
-        known.store(g + 1, std::memory_order_release);
-      }
-      continue;
-    }
-    const int g = task - 1;
-    while (known.load(std::memory_order_acquire) <= g) {
-    }
+  }
+#pragma omp parallel for num_threads(parts) schedule(static, 1) if (parts > 1)
+  for (int g = 0; g < groups; ++g) {
     Rng& r = stream[static_cast<size_t>(g)];
     for (int level = first_level[static_cast<size_t>(g)]; level < first_level[static_cast<size_t>(g) + 1]; ++level) {
       uint32_t* b = order.data() + start[level];
