@@ -10,7 +10,7 @@ what=${1:-all}
 BUILD=(
   build-essential cmake ninja-build pkg-config git
   libserialport-dev libusb-1.0-0-dev libtinyxml2-dev libexpat1-dev catch2
-  libopencv-core-dev libopencv-imgproc-dev libstb-dev libcairo2-dev libpng-dev
+  libopencv-core-dev libopencv-imgproc-dev libstb-dev libcairo2-dev libpng-dev libjpeg62-turbo-dev
   libcli11-dev libtomlplusplus-dev libnanoflann-dev libbenchmark-dev nlohmann-json3-dev
   libhersheyfont-dev hershey-fonts-data zlib1g-dev
   libcpp-httplib-dev  # `stipplot serve`

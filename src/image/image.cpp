@@ -2,6 +2,7 @@
 
 #include <stb_image.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include <new>
 #include <utility>
 
+#include "codec.h"
 #include "util/error.hpp"
 #include "util/threads.hpp"
 
@@ -41,6 +43,18 @@ PixelBytes PixelBytes::adopt(uint8_t* block, size_t n) {
   PixelBytes b;
   b.p_ = block;
   b.n_ = block ? n : 0;
+  return b;
+}
+
+PixelBytes PixelBytes::for_writing(size_t n) {
+  auto* block = static_cast<uint8_t*>(std::malloc(n ? n : 1));
+  if (!block) throw std::bad_alloc();
+  PixelBytes b = adopt(block, n);
+  // One write a page; a huge page (glibc.malloc.hugetlb) is cleared whole at its first.
+  constexpr long kPage = 4096;
+  const long pages = static_cast<long>((n + kPage - 1) / kPage);
+#pragma omp parallel for num_threads(thread_count()) schedule(static) if (pages >= 1024 && !in_parallel_part())
+  for (long p = 0; p < pages; ++p) block[static_cast<size_t>(p * kPage)] = 0;
   return b;
 }
 
@@ -134,11 +148,37 @@ const char* refused_format(const uint8_t* d, size_t n) {
   return nullptr;
 }
 
-std::string damaged(const std::string& name, const uint8_t* d, size_t n) {
-  const char* format = announced_format(d, n);
-  const char* why = stbi_failure_reason();
+std::string damaged(const std::string& name, const char* format, const char* why) {
   return name + ": truncated or corrupt " + (format ? std::string(format) + " " : std::string()) + "image" +
-         (why ? std::string(" (decoder: ") + why + ")" : std::string());
+         (why && *why ? std::string(" (decoder: ") + why + ")" : std::string());
+}
+
+// The formats read by their own libraries; the rest (BMP, GIF, TGA) by stb_image.
+struct Codec {
+  const char* format;
+  int (*header)(const uint8_t*, size_t, codec_header*, char*, size_t);
+  int (*decode)(const uint8_t*, size_t, uint8_t*, char*, size_t);
+};
+
+const Codec* codec_for(const uint8_t* d, size_t n) {
+  static const Codec png{"PNG", codec_png_header, codec_png_decode};
+  static const Codec jpeg{"JPEG", codec_jpeg_header, codec_jpeg_decode};
+  const char* format = announced_format(d, n);
+  if (!format) return nullptr;
+  if (std::strcmp(format, "PNG") == 0) return &png;
+  if (std::strcmp(format, "JPEG") == 0) return &jpeg;
+  return nullptr;
+}
+
+// RGBA composited on white: c*a + 255*(1-a), rounded.
+PixelBytes on_white(const uint8_t* rgba, size_t px) {
+  PixelBytes rgb = PixelBytes::for_writing(px * 3);
+  for (size_t i = 0; i < px; ++i) {
+    const uint8_t* p = rgba + i * 4;
+    const unsigned a = p[3];
+    for (size_t c = 0; c < 3; ++c) rgb[i * 3 + c] = static_cast<uint8_t>((p[c] * a + 255u * (255u - a) + 127u) / 255u);
+  }
+  return rgb;
 }
 
 }  // namespace
@@ -149,38 +189,50 @@ Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, c
   const int len = static_cast<int>(size);
   if (const char* format = refused_format(bytes, size))
     throw UserError(name + ": " + format + " images are not read (use PNG, JPEG, BMP, GIF or TGA)");
-  int w = 0, h = 0, comp = 0;
-  if (!stbi_info_from_memory(bytes, len, &w, &h, &comp)) {
-    if (announced_format(bytes, size)) throw UserError(damaged(name, bytes, size));
-    throw UserError(name + ": not a readable image (none of PNG, JPEG, BMP, GIF, TGA)");
+  const Codec* codec = codec_for(bytes, size);
+  char why[256] = "";
+  uint64_t w = 0, h = 0;
+  bool alpha = false;  // an image with alpha decodes to RGBA and is composited on white
+  if (codec) {
+    codec_header head{};
+    if (!codec->header(bytes, size, &head, why, sizeof why)) throw UserError(damaged(name, codec->format, why));
+    w = head.width, h = head.height, alpha = head.alpha != 0;
+  } else {
+    int iw = 0, ih = 0, comp = 0;
+    if (!stbi_info_from_memory(bytes, len, &iw, &ih, &comp)) {
+      if (const char* format = announced_format(bytes, size))
+        throw UserError(damaged(name, format, stbi_failure_reason()));
+      throw UserError(name + ": not a readable image (none of PNG, JPEG, BMP, GIF, TGA)");
+    }
+    w = static_cast<uint64_t>(std::max(iw, 0)), h = static_cast<uint64_t>(std::max(ih, 0));
+    alpha = comp == 2 || comp == 4;
   }
-  if (w <= 0 || h <= 0) throw UserError(name + ": image has zero size");
-  uint64_t px = static_cast<uint64_t>(w) * static_cast<uint64_t>(h);
-  if (px > opt.max_pixels)
+  if (w == 0 || h == 0) throw UserError(name + ": image has zero size");
+  const uint64_t px = w * h;
+  if (px > opt.max_pixels || w > INT32_MAX || h > INT32_MAX)
     throw UserError(name + ": image is " + std::to_string(w) + "x" + std::to_string(h) + " = " + std::to_string(px) +
                     " pixels, more than the limit of " + std::to_string(opt.max_pixels) + " (raise it with --max-pixels)");
-
-  // An image without alpha decodes straight to RGB; one with alpha is composited on white.
-  const bool alpha = comp == 2 || comp == 4;
-  unsigned char* data = stbi_load_from_memory(bytes, len, &w, &h, &comp, alpha ? 4 : 3);
-  if (!data) throw UserError(damaged(name, bytes, size));
   Image im;
-  im.width = w;
-  im.height = h;
+  im.width = static_cast<int>(w);
+  im.height = static_cast<int>(h);
+  const size_t n = static_cast<size_t>(px);
+  if (codec) {
+    PixelBytes out = PixelBytes::for_writing(n * (alpha ? 4 : 3));
+    if (!codec->decode(bytes, size, out.data(), why, sizeof why)) throw UserError(damaged(name, codec->format, why));
+    im.rgb = alpha ? on_white(out.data(), n) : std::move(out);
+    return im;
+  }
+  int iw = 0, ih = 0, comp = 0;
+  unsigned char* data = stbi_load_from_memory(bytes, len, &iw, &ih, &comp, alpha ? 4 : 3);
+  if (!data) throw UserError(damaged(name, announced_format(bytes, size), stbi_failure_reason()));
   if (!alpha) {
     // stb_image's block is the image (it allocates with malloc: STBI_MALLOC is not set in
     // Debian's libstb, and stbi_image_free is free).
-    im.rgb = PixelBytes::adopt(data, static_cast<size_t>(px) * 3);
+    im.rgb = PixelBytes::adopt(data, n * 3);
     return im;
   }
   std::unique_ptr<unsigned char, void (*)(void*)> guard(data, &stbi_image_free);
-  im.rgb.resize(static_cast<size_t>(px) * 3);
-  for (size_t i = 0; i < px; ++i) {
-    const unsigned char* p = data + i * 4;
-    unsigned a = p[3];
-    for (int c = 0; c < 3; ++c)  // composite on white: c*a + 255*(1-a)
-      im.rgb[i * 3 + static_cast<size_t>(c)] = static_cast<uint8_t>((p[c] * a + 255u * (255u - a) + 127u) / 255u);
-  }
+  im.rgb = on_white(data, n);
   return im;
 }
 

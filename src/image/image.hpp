@@ -19,6 +19,10 @@ class PixelBytes {
   ~PixelBytes();
   // Takes a block from malloc (stb_image's result), n bytes long; it is freed with free().
   static PixelBytes adopt(uint8_t* block, size_t n);
+  // n bytes of no particular value, for a decoder to fill: their pages are first touched on
+  // every thread, since a fresh page's fault and clearing costs about as much as decoding
+  // into it (measured: docs/figures.md), and would otherwise fall on the decoder's thread.
+  static PixelBytes for_writing(size_t n);  // O(n / page size); throws std::bad_alloc
 
   uint8_t* data() { return p_; }
   const uint8_t* data() const { return p_; }
@@ -57,7 +61,8 @@ struct LoadOptions {
   uint64_t max_pixels = 100'000'000;  // --max-pixels
 };
 
-// PNG, JPEG, BMP, GIF, TGA (stb_image; its PNM, PSD, HDR and PIC decoders are refused). Throws UserError with one line
+// PNG (libpng), JPEG (libjpeg-turbo), BMP, GIF, TGA (stb_image; its PNM, PSD, HDR and PIC
+// decoders are refused). Throws UserError with one line
 // naming the file and the problem: missing, empty, not an image, truncated, zero size,
 // or more pixels than allowed (checked from the header, before decoding).
 Image load_image(const std::string& path, const LoadOptions& opt = {});
