@@ -224,8 +224,16 @@ std::vector<uint32_t> sample(int width, int height, const std::vector<uint8_t>& 
   const uint32_t w = static_cast<uint32_t>(width);
   if (radii_monotone(d, radius, order)) {
     CoverMask cover(width, height);
+    // The order jumps about the image: each pixel's level and cover bit are a cache miss
+    // unless asked for this many pixels ahead (the same result; BM_GrayscalePDS, order and
+    // sampling, 261-267 -> 171-236 ms on this VM).
+    constexpr size_t kAhead = 64;
     for (size_t k = 0; k < order.size(); ++k) {
       if (progress && (k & kProgressMask) == 0) progress(static_cast<double>(k) / static_cast<double>(order.size()));
+      if (k + kAhead < order.size()) {
+        __builtin_prefetch(&d[order[k + kAhead]]);
+        cover.prefetch(order[k + kAhead]);
+      }
       const uint32_t idx = order[k];
       if (cover.covered(idx) || radius.none(d[idx])) continue;
       const int x = static_cast<int>(idx % w), y = static_cast<int>(idx / w);

@@ -50,6 +50,7 @@ class CoverMask {
  public:
   CoverMask(int width, int height);
   bool covered(size_t idx) const { return (bits_[idx >> 6] >> (idx & 63)) & 1; }
+  void prefetch(size_t idx) const { __builtin_prefetch(&bits_[idx >> 6]); }
   void paint_disc(int x, int y, double r2);
 
  private:
