@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "eval/bounded_blur.hpp"
 #include "methods/hatch/hatch_lines.hpp"
 #include "methods/working_grid.hpp"
 #include "util/error.hpp"
@@ -32,7 +33,7 @@ ToneMap tone_map(const Image& image, const HatchParams& p, const Placement& plac
   cv::Mat g(t.height, t.width, CV_8U, luma.data()), f;
   g.convertTo(f, CV_32F, 1.0 / 255);
   // Blurred on paper, so the bands are shapes a pen can hatch, not the photo's grain.
-  if (p.blur_mm > 0) cv::GaussianBlur(f, f, cv::Size(0, 0), p.blur_mm / t.cell_mm, 0, cv::BORDER_REPLICATE);
+  if (p.blur_mm > 0) gaussian_blur_rows(f, f, p.blur_mm / t.cell_mm, cv::BORDER_REPLICATE);
   const size_t n = static_cast<size_t>(t.width) * static_cast<size_t>(t.height);
   const int top = p.levels - 1;
   t.band.resize(n);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "eval/bounded_blur.hpp"
 #include "methods/palette.hpp"
 #include "methods/sketch/redistribution.hpp"
 #include "util/error.hpp"
@@ -235,7 +236,7 @@ EdgeField edge_field(const Image& grid) {
   cv::Mat jxx = gx.mul(gx), jxy = gx.mul(gy), jyy = gy.mul(gy);
   // Smoothing the structure tensor (not the gradient) keeps opposite gradients on the two
   // sides of a thin line from cancelling, and steadies the direction in texture.
-  for (cv::Mat* m : {&jxx, &jxy, &jyy}) cv::GaussianBlur(*m, *m, cv::Size(0, 0), 1.0, 1.0, cv::BORDER_REPLICATE);
+  for (cv::Mat* m : {&jxx, &jxy, &jyy}) gaussian_blur_rows(*m, *m, 1.0, cv::BORDER_REPLICATE);
   f.tx.resize(n);
   f.ty.resize(n);
   f.strength.resize(n);
@@ -485,7 +486,7 @@ hatch::PenGrid ground_grid(const Image& image, const std::vector<Pen>& pens, con
   // The tone as seen from a step away: what the directions follow, not the grain.
   cv::Mat amount(g.height, g.width, CV_32F, g.amount.data());
   const double sigma = kGroundToneMm / g.cell_mm;
-  cv::GaussianBlur(amount, amount, cv::Size(0, 0), sigma, sigma, cv::BORDER_REPLICATE);
+  gaussian_blur_rows(amount, amount, sigma, cv::BORDER_REPLICATE);
   for (size_t i = 0; i < g.pen.size(); ++i)
     g.pen[i] = g.amount[i] * hatch::kFieldDirections < 0.5 ? hatch::PenGrid::kPaper : 0;
   return hatch::settle_fields(g, pens.size());

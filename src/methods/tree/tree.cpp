@@ -5,6 +5,7 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "eval/bounded_blur.hpp"
 #include "methods/stipple/pds.hpp"
 #include "methods/tree/trails.hpp"
 #include "util/error.hpp"
@@ -110,7 +111,7 @@ TreeResult tree_pixels(const Image& image, const TreeParams& p) {
     cv::Mat g(h, w, CV_8U, r.grey.data()), f, out(h, w, CV_32F, r.field.data());
     g.convertTo(f, CV_32F);
     if (p.sigma > 0)
-      cv::GaussianBlur(f, out, cv::Size(0, 0), p.sigma, p.sigma, cv::BORDER_REPLICATE);
+      gaussian_blur_rows(f, out, p.sigma, cv::BORDER_REPLICATE);
     else
       f.copyTo(out);
   } else {
