@@ -170,6 +170,22 @@ const Codec* codec_for(const uint8_t* d, size_t n) {
   return nullptr;
 }
 
+// A PNG's size as its first chunk (IHDR, at a fixed place) declares it, read before libpng
+// reads on to the pixels: a file claiming too many is refused as that, whatever follows.
+bool png_declared_size(const uint8_t* d, size_t n, uint64_t& w, uint64_t& h) {
+  if (n < 24 || std::memcmp(d + 12, "IHDR", 4) != 0) return false;
+  auto be32 = [&](size_t at) {
+    return (uint64_t{d[at]} << 24) | (uint64_t{d[at + 1]} << 16) | (uint64_t{d[at + 2]} << 8) | uint64_t{d[at + 3]};
+  };
+  w = be32(16), h = be32(20);
+  return true;
+}
+
+std::string too_many_pixels(const std::string& name, uint64_t w, uint64_t h, uint64_t limit) {
+  return name + ": image is " + std::to_string(w) + "x" + std::to_string(h) + " = " + std::to_string(w * h) +
+         " pixels, more than the limit of " + std::to_string(limit) + " (raise it with --max-pixels)";
+}
+
 // RGBA composited on white: c*a + 255*(1-a), rounded.
 PixelBytes on_white(const uint8_t* rgba, size_t px) {
   PixelBytes rgb = PixelBytes::for_writing(px * 3);
@@ -193,6 +209,8 @@ Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, c
   char why[256] = "";
   uint64_t w = 0, h = 0;
   bool alpha = false;  // an image with alpha decodes to RGBA and is composited on white
+  if (codec && std::strcmp(codec->format, "PNG") == 0 && png_declared_size(bytes, size, w, h) && w * h > opt.max_pixels)
+    throw UserError(too_many_pixels(name, w, h, opt.max_pixels));
   if (codec) {
     codec_header head{};
     if (!codec->header(bytes, size, &head, why, sizeof why)) throw UserError(damaged(name, codec->format, why));
@@ -210,8 +228,7 @@ Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, c
   if (w == 0 || h == 0) throw UserError(name + ": image has zero size");
   const uint64_t px = w * h;
   if (px > opt.max_pixels || w > INT32_MAX || h > INT32_MAX)
-    throw UserError(name + ": image is " + std::to_string(w) + "x" + std::to_string(h) + " = " + std::to_string(px) +
-                    " pixels, more than the limit of " + std::to_string(opt.max_pixels) + " (raise it with --max-pixels)");
+    throw UserError(too_many_pixels(name, w, h, opt.max_pixels));
   Image im;
   im.width = static_cast<int>(w);
   im.height = static_cast<int>(h);
