@@ -60,8 +60,7 @@ static void png_start(png_structp png, png_infop info, codec_header* h) {
   h->alpha = (color & PNG_COLOR_MASK_ALPHA) != 0 || transparent_colour;
 }
 
-/* One header read or a whole decode (out != NULL). */
-static int png_run(const uint8_t* data, size_t size, codec_header* h, uint8_t* out, char* why, size_t why_size) {
+int codec_png_read(const uint8_t* data, size_t size, codec_header* h, uint8_t* out, char* why, size_t why_size) {
   png_source src = {data, size, 0, why, why_size};
   if (size < 8 || png_sig_cmp(data, 0, 8) != 0) {
     set_why(why, why_size, "not a PNG signature");
@@ -99,14 +98,6 @@ static int png_run(const uint8_t* data, size_t size, codec_header* h, uint8_t* o
   return 1;
 }
 
-int codec_png_header(const uint8_t* data, size_t size, codec_header* h, char* why, size_t why_size) {
-  return png_run(data, size, h, NULL, why, why_size);
-}
-
-int codec_png_decode(const uint8_t* data, size_t size, uint8_t* out, char* why, size_t why_size) {
-  codec_header h;
-  return png_run(data, size, &h, out, why, why_size);
-}
 
 /* ---- JPEG (libjpeg-turbo) ---- */
 
@@ -165,7 +156,7 @@ static uint8_t times_black(unsigned c, unsigned k) {
   return (uint8_t)((t + (t >> 8)) >> 8);
 }
 
-static int jpeg_run(const uint8_t* data, size_t size, codec_header* h, uint8_t* out, char* why, size_t why_size) {
+int codec_jpeg_read(const uint8_t* data, size_t size, codec_header* h, uint8_t* out, char* why, size_t why_size) {
   struct jpeg_decompress_struct ci;
   jpeg_failure fail;
   struct jpeg_progress_mgr progress;
@@ -213,13 +204,4 @@ static int jpeg_run(const uint8_t* data, size_t size, codec_header* h, uint8_t* 
   }
   jpeg_destroy_decompress(&ci);
   return 1;
-}
-
-int codec_jpeg_header(const uint8_t* data, size_t size, codec_header* h, char* why, size_t why_size) {
-  return jpeg_run(data, size, h, NULL, why, why_size);
-}
-
-int codec_jpeg_decode(const uint8_t* data, size_t size, uint8_t* out, char* why, size_t why_size) {
-  codec_header h;
-  return jpeg_run(data, size, &h, out, why, why_size);
 }

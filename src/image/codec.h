@@ -17,14 +17,13 @@ typedef struct {
   int alpha; /* 1: decodes to RGBA (an alpha channel or a transparent colour), 0: RGB */
 } codec_header;
 
-/* Each returns 1 on success; 0 on failure, with the decoder's reason in `why` (at most
- * why_size bytes, NUL-terminated). A decode writes width x height x (alpha ? 4 : 3) bytes,
- * rows top to bottom, to `out`. Truncated or damaged data is a failure, never a grey fill.
+/* Each reads the header into `h` and, when `out` is not NULL, decodes width x height x
+ * (alpha ? 4 : 3) bytes, rows top to bottom, into it (a buffer sized from a header read
+ * before). 1 on success; 0 on failure, with the decoder's reason in `why` (at most why_size
+ * bytes, NUL-terminated). Truncated or damaged data is a failure, never a grey fill.
  * O(pixels); a JPEG's memory O(1) rows (baseline) or O(pixels) (progressive). */
-int codec_png_header(const uint8_t* data, size_t size, codec_header* h, char* why, size_t why_size);
-int codec_png_decode(const uint8_t* data, size_t size, uint8_t* out, char* why, size_t why_size);
-int codec_jpeg_header(const uint8_t* data, size_t size, codec_header* h, char* why, size_t why_size);
-int codec_jpeg_decode(const uint8_t* data, size_t size, uint8_t* out, char* why, size_t why_size);
+int codec_png_read(const uint8_t* data, size_t size, codec_header* h, uint8_t* out, char* why, size_t why_size);
+int codec_jpeg_read(const uint8_t* data, size_t size, codec_header* h, uint8_t* out, char* why, size_t why_size);
 
 #ifdef __cplusplus
 }

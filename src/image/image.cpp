@@ -156,13 +156,12 @@ std::string damaged(const std::string& name, const char* format, const char* why
 // The formats read by their own libraries; the rest (BMP, GIF, TGA) by stb_image.
 struct Codec {
   const char* format;
-  int (*header)(const uint8_t*, size_t, codec_header*, char*, size_t);
-  int (*decode)(const uint8_t*, size_t, uint8_t*, char*, size_t);
+  int (*read)(const uint8_t*, size_t, codec_header*, uint8_t*, char*, size_t);  // out NULL: the header only
 };
 
 const Codec* codec_for(const uint8_t* d, size_t n) {
-  static const Codec png{"PNG", codec_png_header, codec_png_decode};
-  static const Codec jpeg{"JPEG", codec_jpeg_header, codec_jpeg_decode};
+  static const Codec png{"PNG", codec_png_read};
+  static const Codec jpeg{"JPEG", codec_jpeg_read};
   const char* format = announced_format(d, n);
   if (!format) return nullptr;
   if (std::strcmp(format, "PNG") == 0) return &png;
@@ -211,9 +210,9 @@ Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, c
   bool alpha = false;  // an image with alpha decodes to RGBA and is composited on white
   if (codec && std::strcmp(codec->format, "PNG") == 0 && png_declared_size(bytes, size, w, h) && w * h > opt.max_pixels)
     throw UserError(too_many_pixels(name, w, h, opt.max_pixels));
+  codec_header head{};
   if (codec) {
-    codec_header head{};
-    if (!codec->header(bytes, size, &head, why, sizeof why)) throw UserError(damaged(name, codec->format, why));
+    if (!codec->read(bytes, size, &head, nullptr, why, sizeof why)) throw UserError(damaged(name, codec->format, why));
     w = head.width, h = head.height, alpha = head.alpha != 0;
   } else {
     int iw = 0, ih = 0, comp = 0;
@@ -235,7 +234,7 @@ Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, c
   const size_t n = static_cast<size_t>(px);
   if (codec) {
     PixelBytes out = PixelBytes::for_writing(n * (alpha ? 4 : 3));
-    if (!codec->decode(bytes, size, out.data(), why, sizeof why)) throw UserError(damaged(name, codec->format, why));
+    if (!codec->read(bytes, size, &head, out.data(), why, sizeof why)) throw UserError(damaged(name, codec->format, why));
     im.rgb = alpha ? on_white(out.data(), n) : std::move(out);
     return im;
   }

@@ -120,9 +120,9 @@ struct Layout {
   std::vector<int> depths;
 };
 
-// A JPEG written by libjpeg-turbo itself: `components` 1 (grey), 3 (RGB) or 4 (CMYK,
-// with Adobe's marker, as Photoshop writes it), every pixel `sample`.
-Bytes make_jpeg(int w, int h, int components, const uint8_t* sample, bool progressive) {
+// `samples` (rows of `components` bytes a pixel: 1 grey, 3 RGB, 4 CMYK with Adobe's marker,
+// as Photoshop writes it) as a JPEG, written by libjpeg-turbo itself.
+Bytes encode_jpeg(const Bytes& samples, int w, int h, int components, int quality, bool progressive) {
   jpeg_compress_struct ci{};
   jpeg_error_mgr err{};
   ci.err = jpeg_std_error(&err);
@@ -135,13 +135,12 @@ Bytes make_jpeg(int w, int h, int components, const uint8_t* sample, bool progre
   ci.input_components = components;
   ci.in_color_space = components == 1 ? JCS_GRAYSCALE : components == 3 ? JCS_RGB : JCS_CMYK;
   jpeg_set_defaults(&ci);
-  jpeg_set_quality(&ci, 95, TRUE);
+  jpeg_set_quality(&ci, quality, TRUE);
   if (progressive) jpeg_simple_progression(&ci);
   jpeg_start_compress(&ci, TRUE);
-  Bytes row(static_cast<size_t>(w) * static_cast<size_t>(components));
-  for (size_t i = 0; i < row.size(); ++i) row[i] = sample[i % static_cast<size_t>(components)];
+  const size_t stride = static_cast<size_t>(w) * static_cast<size_t>(components);
   while (ci.next_scanline < ci.image_height) {
-    JSAMPROW r = row.data();
+    JSAMPROW r = const_cast<uint8_t*>(&samples[static_cast<size_t>(ci.next_scanline) * stride]);
     jpeg_write_scanlines(&ci, &r, 1);
   }
   jpeg_finish_compress(&ci);
@@ -149,6 +148,13 @@ Bytes make_jpeg(int w, int h, int components, const uint8_t* sample, bool progre
   Bytes file(out, out + size);
   std::free(out);
   return file;
+}
+
+// Every pixel `sample` (`components` bytes).
+Bytes make_jpeg(int w, int h, int components, const uint8_t* sample) {
+  Bytes px(static_cast<size_t>(w) * static_cast<size_t>(h) * static_cast<size_t>(components));
+  for (size_t i = 0; i < px.size(); ++i) px[i] = sample[i % static_cast<size_t>(components)];
+  return encode_jpeg(px, w, h, components, 95, false);
 }
 
 // A smooth photo-like image (three gradients), for JPEGs.
@@ -164,32 +170,7 @@ Bytes gradient_rgb(int w, int h) {
   return px;
 }
 
-Bytes jpeg_of(const Bytes& rgb, int w, int h, bool progressive) {
-  jpeg_compress_struct ci{};
-  jpeg_error_mgr err{};
-  ci.err = jpeg_std_error(&err);
-  jpeg_create_compress(&ci);
-  unsigned char* out = nullptr;
-  unsigned long size = 0;
-  jpeg_mem_dest(&ci, &out, &size);
-  ci.image_width = static_cast<JDIMENSION>(w);
-  ci.image_height = static_cast<JDIMENSION>(h);
-  ci.input_components = 3;
-  ci.in_color_space = JCS_RGB;
-  jpeg_set_defaults(&ci);
-  jpeg_set_quality(&ci, 90, TRUE);
-  if (progressive) jpeg_simple_progression(&ci);
-  jpeg_start_compress(&ci, TRUE);
-  while (ci.next_scanline < ci.image_height) {
-    JSAMPROW r = const_cast<uint8_t*>(&rgb[static_cast<size_t>(ci.next_scanline) * static_cast<size_t>(w) * 3]);
-    jpeg_write_scanlines(&ci, &r, 1);
-  }
-  jpeg_finish_compress(&ci);
-  jpeg_destroy_compress(&ci);
-  Bytes file(out, out + size);
-  std::free(out);
-  return file;
-}
+Bytes jpeg_of(const Bytes& rgb, int w, int h, bool progressive) { return encode_jpeg(rgb, w, h, 3, 90, progressive); }
 
 }  // namespace
 
@@ -246,13 +227,13 @@ TEST_CASE("a JPEG decodes as stb_image decodes it, to the rounding of the standa
 
 TEST_CASE("grey and Adobe CMYK JPEGs decode to RGB as stb_image decodes them", "[image][codec]") {
   const uint8_t grey[1] = {77};
-  const Bytes g = decoded(make_jpeg(24, 16, 1, grey, false));
+  const Bytes g = decoded(make_jpeg(24, 16, 1, grey));
   REQUIRE(g.size() == 24u * 16u * 3u);
   for (uint8_t v : g) CHECK(std::abs(int(v) - 77) <= 1);
   // Stored inverted (255 = no ink), as Photoshop writes CMYK: cyan-free, half magenta,
   // full yellow, no black reads (255, 128, 0); with half black, about half of each.
   for (const auto& cmyk : {std::vector<uint8_t>{255, 128, 0, 255}, std::vector<uint8_t>{255, 128, 0, 128}}) {
-    const Bytes file = make_jpeg(24, 16, 4, cmyk.data(), false);
+    const Bytes file = make_jpeg(24, 16, 4, cmyk.data());
     int w = 0, h = 0;
     const Bytes expect = stb_on_white(file, &w, &h);
     const Bytes got = decoded(file);
