@@ -58,6 +58,7 @@ static void png_start(png_structp png, png_infop info, codec_header* h) {
   h->width = png_get_image_width(png, info);
   h->height = png_get_image_height(png, info);
   h->alpha = (color & PNG_COLOR_MASK_ALPHA) != 0 || transparent_colour;
+  h->orientation = 1;
 }
 
 int codec_png_read(const uint8_t* data, size_t size, codec_header* h, uint8_t* out, char* why, size_t why_size) {
@@ -150,6 +151,35 @@ static void jpeg_on_progress(j_common_ptr ci) {
   }
 }
 
+/* EXIF's Orientation tag (0x0112) in an APP1 segment ("Exif\0\0", then a TIFF header and its
+ * first directory); 1 when absent or out of its range 1-8. Every read is bounds-checked. */
+static int exif_orientation(const uint8_t* d, size_t n) {
+  if (n < 14 || memcmp(d, "Exif\0\0", 6) != 0) return 1;
+  d += 6, n -= 6;
+  const int little = d[0] == 'I' && d[1] == 'I';
+  if (!little && !(d[0] == 'M' && d[1] == 'M')) return 1;
+#define EXIF_U16(p) (little ? (unsigned)((p)[0] | (p)[1] << 8) : (unsigned)((p)[0] << 8 | (p)[1]))
+#define EXIF_U32(p) (little ? ((uint32_t)(p)[0] | (uint32_t)(p)[1] << 8 | (uint32_t)(p)[2] << 16 | (uint32_t)(p)[3] << 24) \
+                            : ((uint32_t)(p)[0] << 24 | (uint32_t)(p)[1] << 16 | (uint32_t)(p)[2] << 8 | (uint32_t)(p)[3]))
+  int found = 1;
+  const uint32_t ifd = EXIF_U32(d + 4);
+  if (EXIF_U16(d + 2) == 42 && ifd <= n - 2) {
+    const unsigned entries = EXIF_U16(d + ifd);
+    for (unsigned i = 0; i < entries; ++i) {
+      const size_t at = ifd + 2 + (size_t)i * 12;
+      if (at + 12 > n) break;
+      if (EXIF_U16(d + at) == 0x0112 && EXIF_U16(d + at + 2) == 3) { /* a SHORT */
+        const unsigned v = EXIF_U16(d + at + 8);
+        if (v >= 1 && v <= 8) found = (int)v;
+        break;
+      }
+    }
+  }
+#undef EXIF_U16
+#undef EXIF_U32
+  return found;
+}
+
 /* Adobe's CMYK, stored inverted: each colour scaled by the black, as stb_image did. */
 static uint8_t times_black(unsigned c, unsigned k) {
   const unsigned t = c * k + 128u;
@@ -174,12 +204,16 @@ int codec_jpeg_read(const uint8_t* data, size_t size, codec_header* h, uint8_t* 
   jpeg_create_decompress(&ci);
   ci.progress = &progress;
   jpeg_mem_src(&ci, data, (unsigned long)size);
+  jpeg_save_markers(&ci, JPEG_APP0 + 1, 0xFFFF);
   jpeg_read_header(&ci, TRUE);
   const int cmyk = ci.jpeg_color_space == JCS_CMYK || ci.jpeg_color_space == JCS_YCCK;
   ci.out_color_space = cmyk ? JCS_CMYK : JCS_RGB;
   h->width = ci.image_width;
   h->height = ci.image_height;
   h->alpha = 0;
+  h->orientation = 1;
+  for (jpeg_saved_marker_ptr m = ci.marker_list; m; m = m->next)
+    if (m->marker == JPEG_APP0 + 1 && (h->orientation = exif_orientation(m->data, m->data_length)) != 1) break;
   if (out) {
     jpeg_start_decompress(&ci);
     if (ci.output_width != h->width || ci.output_height != h->height || ci.output_components != (cmyk ? 4 : 3))

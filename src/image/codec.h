@@ -15,6 +15,9 @@ extern "C" {
 typedef struct {
   uint32_t width, height;
   int alpha; /* 1: decodes to RGBA (an alpha channel or a transparent colour), 0: RGB */
+  /* How the stored pixels are turned for viewing: EXIF's Orientation, 1 (as stored) to 8
+   * (a phone's portrait photo is stored on its side, 6 or 8); 1 without the tag. */
+  int orientation;
 } codec_header;
 
 /* Each reads the header into `h` and, when `out` is not NULL, decodes width x height x

@@ -196,6 +196,40 @@ PixelBytes on_white(const uint8_t* rgba, size_t px) {
   return rgb;
 }
 
+// The stored pixels turned as EXIF's Orientation says a viewer shows them (2-8; 5-8 swap the
+// sides). Each output row on its own, on every thread from a million pixels. O(pixels).
+Image upright(const Image& stored, int orientation) {
+  const size_t W = static_cast<size_t>(stored.width), H = static_cast<size_t>(stored.height);
+  const bool swaps = orientation >= 5;
+  Image out;
+  out.width = swaps ? stored.height : stored.width;
+  out.height = swaps ? stored.width : stored.height;
+  out.rgb = PixelBytes::for_writing(stored.rgb.size());
+  const long rows = out.height;
+  const size_t ow = static_cast<size_t>(out.width);
+#pragma omp parallel for num_threads(thread_count()) schedule(static) if (stored.pixels() >= (1u << 20) && !in_parallel_part())
+  for (long r = 0; r < rows; ++r) {
+    const size_t dy = static_cast<size_t>(r);
+    for (size_t dx = 0; dx < ow; ++dx) {
+      size_t sx = dx, sy = dy;  // 1: as stored
+      switch (orientation) {
+        case 2: sx = W - 1 - dx; break;                       // mirrored
+        case 3: sx = W - 1 - dx, sy = H - 1 - dy; break;      // upside down
+        case 4: sy = H - 1 - dy; break;                       // mirrored upside down
+        case 5: sx = dy, sy = dx; break;                      // transposed
+        case 6: sx = dy, sy = H - 1 - dx; break;              // stored turned left: turn right
+        case 7: sx = W - 1 - dy, sy = H - 1 - dx; break;      // transversed
+        case 8: sx = W - 1 - dy, sy = dx; break;              // stored turned right: turn left
+        default: break;
+      }
+      const uint8_t* s = &stored.rgb[(sy * W + sx) * 3];
+      uint8_t* d = &out.rgb[(dy * ow + dx) * 3];
+      d[0] = s[0], d[1] = s[1], d[2] = s[2];
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, const LoadOptions& opt) {
@@ -236,7 +270,7 @@ Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, c
     PixelBytes out = PixelBytes::for_writing(n * (alpha ? 4 : 3));
     if (!codec->read(bytes, size, &head, out.data(), why, sizeof why)) throw UserError(damaged(name, codec->format, why));
     im.rgb = alpha ? on_white(out.data(), n) : std::move(out);
-    return im;
+    return head.orientation > 1 && head.orientation <= 8 ? upright(im, head.orientation) : im;
   }
   int iw = 0, ih = 0, comp = 0;
   unsigned char* data = stbi_load_from_memory(bytes, len, &iw, &ih, &comp, alpha ? 4 : 3);

@@ -62,7 +62,8 @@ struct LoadOptions {
 };
 
 // PNG (libpng), JPEG (libjpeg-turbo), BMP, GIF, TGA (stb_image; its PNM, PSD, HDR and PIC
-// decoders are refused). Throws UserError with one line
+// decoders are refused). A JPEG is turned upright as its EXIF Orientation says (a phone's
+// portrait photo is stored on its side), as every photo viewer shows it. Throws UserError with one line
 // naming the file and the problem: missing, empty, not an image, truncated, zero size,
 // or more pixels than allowed (checked from the header, before decoding).
 Image load_image(const std::string& path, const LoadOptions& opt = {});

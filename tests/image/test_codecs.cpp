@@ -122,7 +122,8 @@ struct Layout {
 
 // `samples` (rows of `components` bytes a pixel: 1 grey, 3 RGB, 4 CMYK with Adobe's marker,
 // as Photoshop writes it) as a JPEG, written by libjpeg-turbo itself.
-Bytes encode_jpeg(const Bytes& samples, int w, int h, int components, int quality, bool progressive) {
+Bytes encode_jpeg(const Bytes& samples, int w, int h, int components, int quality, bool progressive,
+                  const Bytes& exif = {}) {
   jpeg_compress_struct ci{};
   jpeg_error_mgr err{};
   ci.err = jpeg_std_error(&err);
@@ -138,6 +139,7 @@ Bytes encode_jpeg(const Bytes& samples, int w, int h, int components, int qualit
   jpeg_set_quality(&ci, quality, TRUE);
   if (progressive) jpeg_simple_progression(&ci);
   jpeg_start_compress(&ci, TRUE);
+  if (!exif.empty()) jpeg_write_marker(&ci, JPEG_APP0 + 1, exif.data(), static_cast<unsigned>(exif.size()));
   const size_t stride = static_cast<size_t>(w) * static_cast<size_t>(components);
   while (ci.next_scanline < ci.image_height) {
     JSAMPROW r = const_cast<uint8_t*>(&samples[static_cast<size_t>(ci.next_scanline) * stride]);
@@ -286,4 +288,67 @@ TEST_CASE("a PNG whose header claims more pixels than allowed is refused before 
   const uLong crc = crc32(0, png.data() + 12, 17);  // the chunk's type and data
   for (size_t i = 0; i < 4; ++i) png[29 + i] = static_cast<uint8_t>(crc >> (24 - 8 * i));
   CHECK_THROWS_WITH(decode_image(png.data(), png.size(), "huge"), Catch::Contains("3600000000 pixels"));
+}
+
+namespace {
+// An APP1 EXIF segment holding only the Orientation tag, in either byte order.
+Bytes exif_orientation(int v, bool big_endian) {
+  Bytes e = {'E', 'x', 'i', 'f', 0, 0};
+  auto u16 = [&](unsigned x) {
+    if (big_endian) e.insert(e.end(), {uint8_t(x >> 8), uint8_t(x)});
+    else e.insert(e.end(), {uint8_t(x), uint8_t(x >> 8)});
+  };
+  auto u32 = [&](uint32_t x) {
+    u16(big_endian ? x >> 16 : x & 0xFFFF);
+    u16(big_endian ? x & 0xFFFF : x >> 16);
+  };
+  e.push_back(big_endian ? 'M' : 'I');
+  e.push_back(big_endian ? 'M' : 'I');
+  u16(42);
+  u32(8);  // the first directory right after the header
+  u16(1);  // one entry
+  u16(0x0112), u16(3), u32(1), u16(static_cast<unsigned>(v)), u16(0);
+  u32(0);  // no next directory
+  return e;
+}
+}  // namespace
+
+TEST_CASE("a JPEG is turned upright as its EXIF Orientation says, in all eight ways", "[image][codec]") {
+  // Stored 32 x 16 in quadrants: top-left red, top-right green, bottom-left blue, bottom-right white.
+  const int w = 32, h = 16;
+  const uint8_t colours[4][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {255, 255, 255}};
+  Bytes rgb(static_cast<size_t>(w * h * 3));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) rgb[static_cast<size_t>((y * w + x) * 3 + c)] = colours[(y >= h / 2) * 2 + (x >= w / 2)][c];
+  // Where each stored quadrant (TL, TR, BL, BR) shows, as (column, row) of the viewed 2 x 2.
+  const int shows[9][4][2] = {{},
+                              {{0, 0}, {1, 0}, {0, 1}, {1, 1}},   // 1 as stored
+                              {{1, 0}, {0, 0}, {1, 1}, {0, 1}},   // 2 mirrored
+                              {{1, 1}, {0, 1}, {1, 0}, {0, 0}},   // 3 upside down
+                              {{0, 1}, {1, 1}, {0, 0}, {1, 0}},   // 4 mirrored upside down
+                              {{0, 0}, {0, 1}, {1, 0}, {1, 1}},   // 5 transposed
+                              {{1, 0}, {1, 1}, {0, 0}, {0, 1}},   // 6 turned right
+                              {{1, 1}, {1, 0}, {0, 1}, {0, 0}},   // 7 transversed
+                              {{0, 1}, {0, 0}, {1, 1}, {1, 0}}};  // 8 turned left
+  for (int v = 1; v <= 8; ++v)
+    for (bool big_endian : {false, true}) {
+      CAPTURE(v, big_endian);
+      const Bytes file = encode_jpeg(rgb, w, h, 3, 95, false, exif_orientation(v, big_endian));
+      const Image im = decode_image(file.data(), file.size(), "exif");
+      const bool swaps = v >= 5;
+      REQUIRE(im.width == (swaps ? h : w));
+      REQUIRE(im.height == (swaps ? w : h));
+      for (int q = 0; q < 4; ++q) {
+        const int cx = shows[v][q][0], cy = shows[v][q][1];
+        const int x = cx * im.width / 2 + im.width / 4, y = cy * im.height / 2 + im.height / 4;
+        for (int c = 0; c < 3; ++c) CHECK(std::abs(int(im.channel(x, y, c)) - int(colours[q][c])) <= 12);
+      }
+    }
+  // A value outside 1-8 and a segment that is not EXIF leave the photo as stored.
+  for (const Bytes& odd : {exif_orientation(9, false), Bytes{'h', 't', 't', 'p', ':', '/', '/', 0}}) {
+    const Bytes file = encode_jpeg(rgb, w, h, 3, 95, false, odd);
+    const Image im = decode_image(file.data(), file.size(), "odd");
+    CHECK((im.width == w && im.height == h));
+  }
 }
