@@ -477,7 +477,7 @@ void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
         r.insert(r.end(), mine.begin(), mine.end());
       }
     }
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 8)
     for (int b = 0; b < bands; ++b) {
       const int by0 = b * kBandRows, by1 = std::min(h, by0 + kBandRows) - 1;
       std::fill(best.get() + static_cast<size_t>(by0) * static_cast<size_t>(w),
