@@ -77,7 +77,8 @@ cat "$fw_log"
 phase "firmware and EBB firmware tests (beside the tests)"
 [ "$status" -eq 0 ] || exit 1
 # Faults injected into the built-in simulators (label faults) beside the real-time tests
-# (label realtime: a simulated plot timed against the wall clock, one at a time), nothing
+# (label realtime: a simulated plot timed against the wall clock, one at a time, and the EBB
+# firmware fed a spiral in real time, which beside the tests at nice 10 once starved), nothing
 # else running: the simulators' clocks are the wall clock sped up, and both sleep most of
 # their 73 s (the machine 92 % idle with the fault tests alone). With the fuzz build beside
 # the fault tests at nice 19, or four of them at a time, a resume redrew 13 dots where one

@@ -224,7 +224,9 @@ TEST_CASE("stipplot plot streams foreign.svg to the EBB firmware over a pty", "[
   CHECK(starved < 0.01 * (fed.last_step_s - fed.first_step_s));
 }
 
-TEST_CASE("The EBB's FIFO never waits for the host: 2,000 short segments streamed in real time", "[ebb]") {
+// [realtime] too: it runs in the real-time phase (scripts/test.sh), not beside the other
+// tests at nice 10, where on a slow machine the firmware's process once fell 50 ms behind.
+TEST_CASE("The EBB's FIFO never waits for the host: 2,000 short segments streamed in real time", "[ebb][realtime]") {
   test::TempDir t;
   // A spiral of 2,000 segments of 0.25 mm (one stroke, about 10 s at 50 mm/s).
   std::string pts;
