@@ -9,8 +9,12 @@
 // parallel part could take). Run on a quiet machine: a busy core takes the second
 // thread's time.
 //   ./build/bench/bench_threads
+// The Paired benchmarks run each command on 1 and 2 threads in turns and report the
+// median of the pairs' ratios (counter speedup), robust to the VM's drift.
 #include <stb_image.h>
 
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -39,6 +43,43 @@ void whole_command(benchmark::State& state, const char* method) {
   bench_cli::run_command(args, "threads");
   for (auto _ : state) benchmark::DoNotOptimize(bench_cli::run_command(args, "threads"));
 }
+// The same command on 1 and 2 threads in turns (1 then 2, then 2 then 1, ...), each pair
+// timed back to back: this VM's pace drifts by a third over seconds, which the
+// separate runs above take whole but a pair shares. The speed-up is the median of the
+// pairs' ratios; t1 and t2 the medians of each count's times. Argument: the photo.
+void paired_command(benchmark::State& state, const char* method) {
+  const std::string out = (fs::temp_directory_path() / (std::string("stipplot_bench_threads_") + method + ".svg")).string();
+  auto args = [&](int threads) {
+    return std::vector<std::string>{method, photo(state.range(0)), "-o", out, "-q", "--threads", std::to_string(threads)};
+  };
+  bench_cli::run_command(args(2), "threads");  // the heap's pages, as above
+  std::vector<double> t1, t2, ratio;
+  auto timed = [&](int threads) {
+    const auto t0 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(bench_cli::run_command(args(threads), "threads"));
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  };
+  for (auto _ : state) {
+    const bool one_first = t1.size() % 2 == 0;
+    const double a = timed(one_first ? 1 : 2), b = timed(one_first ? 2 : 1);
+    t1.push_back(one_first ? a : b);
+    t2.push_back(one_first ? b : a);
+    ratio.push_back(t1.back() / t2.back());
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : (v[v.size() / 2 - 1] + v[v.size() / 2]) / 2;
+  };
+  state.counters["t1_ms"] = median(t1);
+  state.counters["t2_ms"] = median(t2);
+  state.counters["speedup"] = median(ratio);
+  state.counters["speedup_min"] = *std::min_element(ratio.begin(), ratio.end());
+}
+void BM_StipplePaired(benchmark::State& s) { paired_command(s, "stipple"); }
+void BM_TreePaired(benchmark::State& s) { paired_command(s, "tree"); }
+void BM_SketchPaired(benchmark::State& s) { paired_command(s, "sketch"); }
+void BM_PointillismPaired(benchmark::State& s) { paired_command(s, "pointillism"); }
+
 void BM_Stipple(benchmark::State& s) { whole_command(s, "stipple"); }
 void BM_Tree(benchmark::State& s) { whole_command(s, "tree"); }
 void BM_Sketch(benchmark::State& s) { whole_command(s, "sketch"); }
@@ -79,6 +120,10 @@ BENCHMARK(BM_Stipple)->ArgsProduct({{1, 2}, {0, 1}})->UseRealTime()->Unit(benchm
 BENCHMARK(BM_Tree)->ArgsProduct({{1, 2}, {0, 1}})->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_Sketch)->ArgsProduct({{1, 2}, {0, 1}})->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK(BM_Pointillism)->ArgsProduct({{1, 2}, {0, 1}})->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK(BM_StipplePaired)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(6);
+BENCHMARK(BM_TreePaired)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(6);
+BENCHMARK(BM_SketchPaired)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(6);
+BENCHMARK(BM_PointillismPaired)->Arg(0)->Arg(1)->UseRealTime()->Unit(benchmark::kMillisecond)->Iterations(6);
 
 int main(int argc, char** argv) {
   stipplot::rerun_on_huge_pages(argv);
