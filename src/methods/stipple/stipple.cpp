@@ -482,6 +482,13 @@ void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
       const int by0 = b * kBandRows, by1 = std::min(h, by0 + kBandRows) - 1;
       std::fill(best.get() + static_cast<size_t>(by0) * static_cast<size_t>(w),
                 best.get() + static_cast<size_t>(by1 + 1) * static_cast<size_t>(w), std::numeric_limits<float>::infinity());
+      // The first pass writes its rows of `owner` before the loop below reads them: a fresh
+      // page read first is the kernel's zero page, and the write after it a copy-on-write
+      // fault that flushes every core's TLB (perf: do_wp_page under this loop, 4.5 % of a
+      // 2-thread run's samples in the flushes alone, the other thread's code slowed besides).
+      if (it == 0)
+        std::fill(owner.get() + static_cast<size_t>(by0) * static_cast<size_t>(w),
+                  owner.get() + static_cast<size_t>(by1 + 1) * static_cast<size_t>(w), 0u);
       std::vector<double> dx2;  // (x + 0.5 - dot's x)^2 across its window, as each row has it
       for (const uint32_t k : reaching[static_cast<size_t>(b)]) {
         const Window& wk = win[k];
