@@ -417,9 +417,9 @@ void relax_points(std::vector<Vec2>& pts, const std::vector<uint8_t>& plane, con
   std::array<double, 256> weight{};
   for (int v = 0; v < 256; ++v)
     weight[static_cast<size_t>(v)] = radius.none(static_cast<uint8_t>(v)) ? 0 : 1 / std::pow(radius.r[v], 4);
-  // Not cleared here: each band fills its own rows of `best` below (on its thread, which
-  // then takes the pages' first-touch faults: a 6.7M-cell grid's 53 MB), and `owner` is
-  // read only where `best` was set.
+  // Not cleared here: each band fills its own rows of `best` below, and of `owner` on the
+  // first pass (on its thread, which then takes the pages' first-touch faults: a 6.7M-cell
+  // grid's 53 MB); `owner` is read only where `best` was set.
   const std::unique_ptr<float[]> best(new float[n]);
   const std::unique_ptr<uint32_t[]> owner(new uint32_t[n]);
   struct Window {
