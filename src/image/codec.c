@@ -144,7 +144,6 @@ enum { kMaxScans = 500 };
 static void jpeg_on_progress(j_common_ptr ci) {
   j_decompress_ptr d = (j_decompress_ptr)ci;
   if (d->input_scan_number > kMaxScans) {
-    ci->err->msg_code = JERR_UNKNOWN_MARKER; /* any code: the text is ours */
     jpeg_failure* f = (jpeg_failure*)ci->err;
     set_why(f->why, f->why_size, "more than 500 scans");
     longjmp(f->jump, 1);

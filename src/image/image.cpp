@@ -3,6 +3,7 @@
 #include <stb_image.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <cerrno>
 #include <cstdint>
 #include <cstdio>
@@ -205,25 +206,28 @@ Image upright(const Image& stored, int orientation) {
   out.width = swaps ? stored.height : stored.width;
   out.height = swaps ? stored.width : stored.height;
   out.rgb = PixelBytes::for_writing(stored.rgb.size());
+  // Each orientation as a walk: the stored pixel of output (dx, dy) is
+  // first + dx * step_x + dy * step_y (in pixels), one switch for the whole image.
+  const std::ptrdiff_t w = static_cast<std::ptrdiff_t>(W), last_row = static_cast<std::ptrdiff_t>(H - 1) * w;
+  std::ptrdiff_t first = 0, step_x = 1, step_y = w;  // 1: as stored
+  switch (orientation) {
+    case 2: first = w - 1, step_x = -1, step_y = w; break;              // mirrored
+    case 3: first = last_row + w - 1, step_x = -1, step_y = -w; break;  // upside down
+    case 4: first = last_row, step_x = 1, step_y = -w; break;           // mirrored upside down
+    case 5: first = 0, step_x = w, step_y = 1; break;                   // transposed
+    case 6: first = last_row, step_x = -w, step_y = 1; break;           // stored turned left: turn right
+    case 7: first = last_row + w - 1, step_x = -w, step_y = -1; break;  // transversed
+    case 8: first = w - 1, step_x = w, step_y = -1; break;              // stored turned right: turn left
+    default: break;
+  }
   const long rows = out.height;
   const size_t ow = static_cast<size_t>(out.width);
 #pragma omp parallel for num_threads(thread_count()) schedule(static) if (stored.pixels() >= (1u << 20) && !in_parallel_part())
   for (long r = 0; r < rows; ++r) {
-    const size_t dy = static_cast<size_t>(r);
-    for (size_t dx = 0; dx < ow; ++dx) {
-      size_t sx = dx, sy = dy;  // 1: as stored
-      switch (orientation) {
-        case 2: sx = W - 1 - dx; break;                       // mirrored
-        case 3: sx = W - 1 - dx, sy = H - 1 - dy; break;      // upside down
-        case 4: sy = H - 1 - dy; break;                       // mirrored upside down
-        case 5: sx = dy, sy = dx; break;                      // transposed
-        case 6: sx = dy, sy = H - 1 - dx; break;              // stored turned left: turn right
-        case 7: sx = W - 1 - dy, sy = H - 1 - dx; break;      // transversed
-        case 8: sx = W - 1 - dy, sy = dx; break;              // stored turned right: turn left
-        default: break;
-      }
-      const uint8_t* s = &stored.rgb[(sy * W + sx) * 3];
-      uint8_t* d = &out.rgb[(dy * ow + dx) * 3];
+    std::ptrdiff_t at = first + r * step_y;
+    uint8_t* d = &out.rgb[static_cast<size_t>(r) * ow * 3];
+    for (size_t dx = 0; dx < ow; ++dx, at += step_x, d += 3) {
+      const uint8_t* s = &stored.rgb[static_cast<size_t>(at) * 3];
       d[0] = s[0], d[1] = s[1], d[2] = s[2];
     }
   }
