@@ -33,11 +33,15 @@ namespace fs = std::filesystem;
 
 const std::string& photo(int64_t jpeg) { return jpeg ? stipplot::bench::photo_12mp_jpeg() : stipplot::bench::photo_12mp(); }
 
+// The command line of `method` on the photo (0 = PNG, 1 = JPEG) with `threads` threads.
+std::vector<std::string> command(const char* method, int64_t jpeg, int64_t threads) {
+  const std::string out = (fs::temp_directory_path() / (std::string("stipplot_bench_threads_") + method + ".svg")).string();
+  return {method, photo(jpeg), "-o", out, "-q", "--threads", std::to_string(threads)};
+}
+
 // Arguments: threads, and the photo (0 = PNG, 1 = JPEG).
 void whole_command(benchmark::State& state, const char* method) {
-  const std::string out = (fs::temp_directory_path() / (std::string("stipplot_bench_threads_") + method + ".svg")).string();
-  const std::vector<std::string> args = {method, photo(state.range(1)), "-o", out, "-q", "--threads",
-                                         std::to_string(state.range(0))};
+  const std::vector<std::string> args = command(method, state.range(1), state.range(0));
   // Once untimed: the first run in a process pays for the heap's pages, which every later
   // run reuses; without it the count run first (1) would carry that cost alone.
   bench_cli::run_command(args, "threads");
@@ -48,10 +52,7 @@ void whole_command(benchmark::State& state, const char* method) {
 // separate runs above take whole but a pair shares. The speed-up is the median of the
 // pairs' ratios; t1 and t2 the medians of each count's times. Argument: the photo.
 void paired_command(benchmark::State& state, const char* method) {
-  const std::string out = (fs::temp_directory_path() / (std::string("stipplot_bench_threads_") + method + ".svg")).string();
-  auto args = [&](int threads) {
-    return std::vector<std::string>{method, photo(state.range(0)), "-o", out, "-q", "--threads", std::to_string(threads)};
-  };
+  auto args = [&](int threads) { return command(method, state.range(0), threads); };
   bench_cli::run_command(args(2), "threads");  // the heap's pages, as above
   std::vector<double> t1, t2, ratio;
   auto timed = [&](int threads) {

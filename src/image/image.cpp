@@ -154,22 +154,6 @@ std::string damaged(const std::string& name, const char* format, const char* why
          (why && *why ? std::string(" (decoder: ") + why + ")" : std::string());
 }
 
-// The formats read by their own libraries; the rest (BMP, GIF, TGA) by stb_image.
-struct Codec {
-  const char* format;
-  int (*read)(const uint8_t*, size_t, codec_header*, uint8_t*, char*, size_t);  // out NULL: the header only
-};
-
-const Codec* codec_for(const uint8_t* d, size_t n) {
-  static const Codec png{"PNG", codec_png_read};
-  static const Codec jpeg{"JPEG", codec_jpeg_read};
-  const char* format = announced_format(d, n);
-  if (!format) return nullptr;
-  if (std::strcmp(format, "PNG") == 0) return &png;
-  if (std::strcmp(format, "JPEG") == 0) return &jpeg;
-  return nullptr;
-}
-
 // A PNG's size as its first chunk (IHDR, at a fixed place) declares it, read before libpng
 // reads on to the pixels: a file claiming too many is refused as that, whatever follows.
 bool png_declared_size(const uint8_t* d, size_t n, uint64_t& w, uint64_t& h) {
@@ -179,6 +163,25 @@ bool png_declared_size(const uint8_t* d, size_t n, uint64_t& w, uint64_t& h) {
   };
   w = be32(16), h = be32(20);
   return true;
+}
+
+// The formats read by their own libraries; the rest (BMP, GIF, TGA) by stb_image.
+struct Codec {
+  const char* format;
+  int (*read)(const uint8_t*, size_t, codec_header*, uint8_t*, char*, size_t);  // out NULL: the header only
+  // The size the file declares, where it is known before the library's header read (which
+  // may fail on what follows it); NULL for none.
+  bool (*declared_size)(const uint8_t*, size_t, uint64_t&, uint64_t&);
+};
+
+const Codec* codec_for(const uint8_t* d, size_t n) {
+  static const Codec png{"PNG", codec_png_read, png_declared_size};
+  static const Codec jpeg{"JPEG", codec_jpeg_read, nullptr};
+  const char* format = announced_format(d, n);
+  if (!format) return nullptr;
+  if (std::strcmp(format, "PNG") == 0) return &png;
+  if (std::strcmp(format, "JPEG") == 0) return &jpeg;
+  return nullptr;
 }
 
 std::string too_many_pixels(const std::string& name, uint64_t w, uint64_t h, uint64_t limit) {
@@ -246,7 +249,7 @@ Image decode_image(const uint8_t* bytes, size_t size, const std::string& name, c
   char why[256] = "";
   uint64_t w = 0, h = 0;
   bool alpha = false;  // an image with alpha decodes to RGBA and is composited on white
-  if (codec && std::strcmp(codec->format, "PNG") == 0 && png_declared_size(bytes, size, w, h) && w * h > opt.max_pixels)
+  if (codec && codec->declared_size && codec->declared_size(bytes, size, w, h) && w * h > opt.max_pixels)
     throw UserError(too_many_pixels(name, w, h, opt.max_pixels));
   codec_header head{};
   if (codec) {
